@@ -1,0 +1,68 @@
+"""course_lib: integrators, forces and models for a course on physics-based animation.
+
+The pieces follow Baraff & Witkin's split: a model exposes ``f(t, y) -> dy/dt``
+(:mod:`~course_lib.fields`, :mod:`~course_lib.systems`, :mod:`~course_lib.forces`,
+:mod:`~course_lib.springs`), and a solver (:mod:`~course_lib.integrators`) advances any
+such ``f`` without knowing the physics.
+"""
+
+from . import collisions, fields, forces, springs, stability, systems
+from .implicit import ConvergenceError
+from .integrators import (
+    EVALS_PER_STEP,
+    IMPLICIT_METHODS,
+    METHODS,
+    NEWTONIAN_METHODS,
+    ORDER,
+    BlowUpError,
+    Trajectory,
+    backward_euler,
+    forward_euler,
+    get_stepper,
+    heun,
+    integrate,
+    midpoint,
+    rk4,
+    step,
+    symplectic_euler,
+    trapezoidal,
+    velocity_verlet,
+)
+from .stability import amplification_factor, is_stable, max_stable_dt
+from .systems import NewtonianSystem, newtonian, split_state, stack_state
+
+__all__ = [
+    "EVALS_PER_STEP",
+    "IMPLICIT_METHODS",
+    "METHODS",
+    "NEWTONIAN_METHODS",
+    "ORDER",
+    "BlowUpError",
+    "ConvergenceError",
+    "NewtonianSystem",
+    "Trajectory",
+    "amplification_factor",
+    "backward_euler",
+    "collisions",
+    "fields",
+    "forces",
+    "forward_euler",
+    "get_stepper",
+    "heun",
+    "integrate",
+    "is_stable",
+    "max_stable_dt",
+    "midpoint",
+    "newtonian",
+    "rk4",
+    "split_state",
+    "springs",
+    "stability",
+    "stack_state",
+    "step",
+    "symplectic_euler",
+    "systems",
+    "trapezoidal",
+    "velocity_verlet",
+]
+__version__ = "0.1.0"

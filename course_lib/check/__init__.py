@@ -1,0 +1,132 @@
+"""Automatic feedback for the notebook exercises.
+
+Each notebook imports its own checks, e.g. ``from course_lib.check import nb01 as check``,
+and calls one right after an exercise: ``check.advect_step(advect_step)``. A check runs
+the student's function on a few cases, compares with the reference answer and prints
+one verdict:
+
+- ``✅ correct`` with what was verified;
+- ``❌`` with each failed case: what was expected, what came back, and a hint aimed at the
+  usual mistake when the answer matches one (e.g. the slope taken at the end of the step);
+- ``⏳ pending`` while the function still raises ``NotImplementedError`` (so a blank
+  student notebook runs top to bottom).
+
+Every verdict is also recorded in :data:`RESULTS`, which the grader reads
+(``python -m course_lib.instructor grade``).
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: Latest verdict of every exercise run in this kernel, by "module.exercise" name.
+RESULTS: dict[str, dict] = {}
+#: Every exercise any imported check module defines, with its points.
+REGISTRY: dict[str, int] = {}
+
+
+@dataclass
+class Checker:
+    """Collects the outcome of the cases of one exercise check."""
+
+    name: str
+    passed: list[str] = field(default_factory=list)
+    failed: list[str] = field(default_factory=list)
+
+    def expect(self, ok: bool, what: str, detail: str = "", hint: str | None = None) -> bool:
+        """Record a case: ``what`` describes it, ``detail`` and ``hint`` explain a failure."""
+        if ok:
+            self.passed.append(what)
+        else:
+            msg = f"{what}: {detail}" if detail else what
+            if hint:
+                msg += f"\n      hint: {hint}"
+            self.failed.append(msg)
+        return bool(ok)
+
+    def close(
+        self,
+        actual,
+        expected,
+        what: str,
+        *,
+        rtol: float = 1e-9,
+        atol: float = 1e-12,
+        hint: str | None = None,
+        mistakes: dict[str, object] | None = None,
+    ) -> bool:
+        """Record whether ``actual`` matches ``expected`` numerically.
+
+        ``mistakes`` maps a hint to the value a typical wrong solution produces; if the
+        student's answer matches one, that hint is shown instead of the generic one.
+        """
+        try:
+            a = np.asarray(actual, dtype=float)
+        except (TypeError, ValueError):
+            return self.expect(False, what, f"expected a number/array, got {type(actual).__name__}", hint)
+        e = np.asarray(expected, dtype=float)
+        if a.shape != e.shape:
+            return self.expect(False, what, f"expected shape {e.shape}, got shape {a.shape}", hint)
+        ok = bool(np.allclose(a, e, rtol=rtol, atol=atol))
+        if not ok and mistakes:
+            for mistake_hint, wrong in mistakes.items():
+                w = np.asarray(wrong, dtype=float)
+                if w.shape == a.shape and np.allclose(a, w, rtol=rtol, atol=atol):
+                    hint = mistake_hint
+                    break
+        return self.expect(ok, what, f"expected {_fmt(e)}, got {_fmt(a)}", hint)
+
+
+def _fmt(x: np.ndarray) -> str:
+    return np.array2string(np.asarray(x), precision=6, suppress_small=True, separator=", ")
+
+
+def exercise(func: Callable | None = None, *, points: int = 1):
+    """Turn ``func(checker, answer, ...)`` into a check called as ``check(answer, ...)``.
+
+    The decorated check prints one verdict and records it in :data:`RESULTS`.
+    ``NotImplementedError`` from the student's code means "pending"; any other exception
+    from it is reported as a failure with the exception's message.
+    """
+    if func is None:
+        return functools.partial(exercise, points=points)
+    key = f"{func.__module__.rsplit('.', 1)[-1]}.{func.__name__}"
+    REGISTRY[key] = points
+
+    @functools.wraps(func)
+    def run(*args, **kwargs) -> None:
+        ck = Checker(func.__name__)
+        try:
+            func(ck, *args, **kwargs)
+        except NotImplementedError:
+            RESULTS[key] = {"status": "pending", "passed": 0, "total": 0, "points": points}
+            print(f"⏳ {func.__name__}: pending — replace `raise NotImplementedError()` with your code, "
+                  "then run this cell again.")
+            return
+        except Exception as exc:  # the student's code failed: say how, do not crash the notebook
+            ck.failed.append(f"your code raised {type(exc).__name__}: {exc}")
+        total = len(ck.passed) + len(ck.failed)
+        status = "correct" if not ck.failed else "incorrect"
+        RESULTS[key] = {"status": status, "passed": len(ck.passed), "total": total, "points": points}
+        if status == "correct":
+            print(f"✅ {func.__name__}: correct ({len(ck.passed)} of {total} checks passed)")
+            for what in ck.passed:
+                print(f"   ✓ {what}")
+        else:
+            print(f"❌ {func.__name__}: {len(ck.failed)} of {total} checks failed")
+            for msg in ck.failed:
+                print(f"   ✗ {msg}")
+
+    return run
+
+
+def summary() -> dict[str, dict]:
+    """Verdict of every registered exercise (``"not run"`` if its check never ran)."""
+    out = {}
+    for key, points in REGISTRY.items():
+        out[key] = RESULTS.get(key, {"status": "not run", "passed": 0, "total": 0, "points": points})
+    return out

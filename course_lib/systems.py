@@ -1,0 +1,129 @@
+"""Newtonian particle systems as first-order systems ``dy/dt = f(t, y)``.
+
+Newton's second law ``m x'' = F(t, x, v)`` becomes two first-order equations,
+``x' = v`` and ``v' = F / m``. We stack position and velocity along the first axis,
+``y = (x, v)`` of shape ``(2, N, d)`` for ``N`` particles in ``d`` dimensions, so that
+every integrator applies, and the symplectic ones can tell ``x`` from ``v``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from . import _validate
+
+Force = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
+
+
+def stack_state(x, v) -> np.ndarray:
+    """Stack positions and velocities, both ``(N, d)`` (or ``(d,)``), into ``y = (x, v)``."""
+    x = _validate.state_array("x", x)
+    v = _validate.state_array("v", v)
+    if x.shape != v.shape:
+        raise ValueError(f"x and v must have the same shape, got {x.shape} and {v.shape}")
+    return np.stack((x, v))
+
+
+def split_state(y) -> tuple[np.ndarray, np.ndarray]:
+    """Inverse of :func:`stack_state`: ``(x, v)`` views of ``y`` (or of a trajectory's ``y``).
+
+    Accepts one state ``(2, ...)`` or a trajectory ``(n+1, 2, ...)``.
+    """
+    y = np.asarray(y)
+    if y.ndim >= 1 and y.shape[0] == 2:
+        return y[0], y[1]
+    if y.ndim >= 2 and y.shape[1] == 2:
+        return y[:, 0], y[:, 1]
+    raise ValueError(f"y must be a stacked state (2, ...) or trajectory (n, 2, ...), got {y.shape}")
+
+
+def sum_forces(*forces: Force) -> Force:
+    """The net force: ``F(t, x, v) = Σ forces_i(t, x, v)``."""
+    for i, fn in enumerate(forces):
+        _validate.callable_arg(f"forces[{i}]", fn)
+
+    def net(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        total = np.zeros_like(x)
+        for fn in forces:
+            total = total + fn(t, x, v)
+        return total
+
+    return net
+
+
+class NewtonianSystem:
+    """``f(t, y)`` for particles with masses ``m`` under a net force ``F(t, x, v)``.
+
+    Parameters
+    ----------
+    force : callable
+        ``force(t, x, v) -> F`` with ``x``, ``v``, ``F`` of shape ``(N, d)`` (N).
+    mass : float or array_like, shape (N,)
+        Masses (kg), > 0.
+    pinned : sequence of int, optional
+        Indices of particles held fixed, e.g. the root of a hair strand: their
+        acceleration is zero, so they stay put as long as they start at rest.
+
+    Notes
+    -----
+    Calling the system returns ``dy/dt = (v, F/m)`` with ``y = (x, v)``. For a single
+    particle, states of shape ``(2, d)`` work too (``mass`` a scalar).
+    """
+
+    def __init__(self, force: Force, mass, pinned: Sequence[int] | None = None):
+        self.force = _validate.callable_arg("force", force)
+        m = _validate.state_array("mass", mass)
+        if np.any(m <= 0):
+            raise ValueError("mass must be > 0 for every particle")
+        self.mass = m
+        self.pinned = np.asarray([] if pinned is None else pinned, dtype=int)
+
+    def acceleration(self, t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        F = np.asarray(self.force(t, x, v))
+        if F.shape != x.shape:
+            raise ValueError(f"force must return the shape of x, {x.shape}, got {F.shape}")
+        m = self.mass if self.mass.ndim == 0 else self.mass.reshape(-1, *([1] * (x.ndim - 1)))
+        a = F / m
+        if self.pinned.size:
+            a[self.pinned] = 0.0
+        return a
+
+    def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
+        x, v = y[0], y[1]
+        return np.stack((v, self.acceleration(t, x, v)))
+
+    def kinetic_energy(self, y) -> np.ndarray:
+        """``½ Σ m |v|²`` (J) of a state ``(2, N, d)`` or a trajectory ``(n, 2, N, d)``."""
+        _, v = split_state(y)
+        speed2 = np.sum(v**2, axis=-1)
+        return 0.5 * np.sum(np.broadcast_to(self.mass, speed2.shape[-1:]) * speed2, axis=-1)
+
+    def momentum(self, y) -> np.ndarray:
+        """Total linear momentum ``Σ m v`` (kg m/s), shape ``(d,)`` or ``(n, d)``."""
+        _, v = split_state(y)
+        m = np.broadcast_to(self.mass, v.shape[-2:-1])[:, None]
+        return np.sum(m * v, axis=-2)
+
+
+def newtonian(force: Force, mass, pinned: Sequence[int] | None = None) -> NewtonianSystem:
+    """Shorthand for :class:`NewtonianSystem`."""
+    return NewtonianSystem(force, mass, pinned)
+
+
+def oscillator(omega: float = 1.0, damping: float = 0.0) -> Callable:
+    """``f(t, y)`` of the 1D oscillator ``x'' = -ω² x - c x'`` with ``y = (x, v)``, shape (2,)."""
+    omega = _validate.positive_finite("omega", omega)
+    damping = _validate.finite_real("damping", damping)
+
+    def f(t: float, y: np.ndarray) -> np.ndarray:
+        return np.array([y[1], -(omega**2) * y[0] - damping * y[1]])
+
+    return f
+
+
+def oscillator_energy(y, omega: float = 1.0) -> np.ndarray:
+    """``½ v² + ½ ω² x²`` per unit mass for states ``(..., 2)`` in the layout ``(x, v)``."""
+    y = np.asarray(y)
+    return 0.5 * y[..., 1] ** 2 + 0.5 * omega**2 * y[..., 0] ** 2
