@@ -1,0 +1,1 @@
+"""Performance benchmarks (``make bench``); targets come from the issues."""

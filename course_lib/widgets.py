@@ -1,0 +1,110 @@
+"""A thin ipywidgets view over a pure computation.
+
+Every interactive demo in the course has two halves:
+
+- a **pure function** ``compute(**params) -> result`` in ``course_lib`` (tested directly);
+- a **view**: controls whose values are the function's keyword arguments, and a
+  ``draw(result) -> Figure`` that plots the result. The view recomputes and redraws when a
+  control changes; it never prints (printing from a widget callback lands in widget state
+  and upsets nbval).
+
+Tests drive a view the way a student does, by setting a control's ``.value``, then assert
+on ``view.result``. Outside a kernel (tests, benchmarks) the figure is drawn off-screen and
+closed, so drawing code is exercised too.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+
+def _in_kernel() -> bool:
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover
+        return False
+    shell = get_ipython()
+    return shell is not None and getattr(shell, "kernel", None) is not None
+
+
+def log_slider(description: str, value: float, lo: float, hi: float, steps: int = 200, **kw):
+    """A ``FloatLogSlider`` between ``lo`` and ``hi`` (for time steps and stiffnesses)."""
+    import ipywidgets as w
+
+    return w.FloatLogSlider(
+        value=value, base=10, min=np.log10(lo), max=np.log10(hi),
+        step=(np.log10(hi) - np.log10(lo)) / steps, description=description,
+        continuous_update=False, readout_format=".3g",
+        style={"description_width": "initial"}, **kw,
+    )
+
+
+class ExplorerView:
+    """Controls + output area wired to ``compute`` and ``draw``.
+
+    Parameters
+    ----------
+    compute : callable
+        ``compute(**params) -> result``: pure, no plotting.
+    draw : callable
+        ``draw(result) -> matplotlib.figure.Figure``.
+    controls : mapping of str to ipywidgets.ValueWidget
+        One control per keyword argument of ``compute``.
+    fixed : mapping, optional
+        Extra keyword arguments passed to ``compute`` unchanged.
+
+    Attributes
+    ----------
+    result
+        The latest result of ``compute``.
+    widget : ipywidgets.VBox
+        What to display: the controls above the figure.
+    """
+
+    def __init__(self, compute: Callable, draw: Callable, controls: Mapping, fixed: Mapping | None = None):
+        import ipywidgets as w
+
+        self.compute = compute
+        self.draw = draw
+        self.controls = dict(controls)
+        self.fixed = dict(fixed or {})
+        self.output = w.Output()
+        self.result = None
+        self.figure = None
+        for control in self.controls.values():
+            control.observe(self._on_change, names="value")
+        self.widget = w.VBox([w.HBox(list(self.controls.values()),
+                                     layout=w.Layout(flex_flow="row wrap")), self.output])
+        self.update()
+
+    @property
+    def params(self) -> dict:
+        return {**self.fixed, **{name: c.value for name, c in self.controls.items()}}
+
+    def _on_change(self, change) -> None:
+        self.update()
+
+    def update(self) -> None:
+        """Recompute from the controls' values and redraw."""
+        self.result = self.compute(**self.params)
+        if _in_kernel():
+            from IPython.display import clear_output, display
+
+            with self.output:
+                clear_output(wait=True)
+                with plt.ioff():
+                    self.figure = self.draw(self.result)
+                display(self.figure)
+                plt.close(self.figure)
+        else:
+            self.figure = self.draw(self.result)
+            self.figure.canvas.draw()
+            plt.close(self.figure)
+
+    def _ipython_display_(self) -> None:
+        from IPython.display import display
+
+        display(self.widget)
