@@ -62,7 +62,7 @@ def callable_arg(name: str, value: object) -> Callable:
 
 def shape_of(name: str, arr: np.ndarray, shape: tuple[int | None, ...]) -> np.ndarray:
     """Check ``arr.shape`` against ``shape``, where ``None`` matches any length."""
-    ok = arr.ndim == len(shape) and all(s is None or s == a for s, a in zip(shape, arr.shape))
+    ok = arr.ndim == len(shape) and all(s is None or s == a for s, a in zip(shape, arr.shape, strict=False))
     if not ok:
         want = "(" + ", ".join("any" if s is None else str(s) for s in shape) + ")"
         raise ValueError(f"{name} must have shape {want}, got {arr.shape}")

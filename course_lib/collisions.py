@@ -20,13 +20,15 @@ def _respond(v, normal, hit, restitution, friction):
     t_speed = np.linalg.norm(v_t, axis=1)
     # Coulomb friction: tangential speed drops by μ times the normal speed change.
     dvn = (1.0 + restitution) * np.abs(vn)
-    scale = np.where(t_speed > 0, np.maximum(0.0, 1.0 - friction * dvn / np.maximum(t_speed, 1e-300)), 0.0)
+    slowed = 1.0 - friction * dvn / np.maximum(t_speed, 1e-300)
+    scale = np.where(t_speed > 0, np.maximum(0.0, slowed), 0.0)
     v_new = v.copy()
     v_new[approaching] = (scale[:, None] * v_t - restitution * v_n)[approaching]
     return v_new
 
 
-def plane(normal=(0.0, 1.0, 0.0), offset: float = 0.0, restitution: float = 0.5, friction: float = 0.0):
+def plane(normal=(0.0, 1.0, 0.0), offset: float = 0.0, restitution: float = 0.5,
+          friction: float = 0.0):
     """Post-step collision with the half-space ``n·x >= offset`` (e.g. the ground ``y >= 0``)."""
     n = np.asarray(normal, dtype=float)
     n = n / np.linalg.norm(n)
@@ -50,7 +52,8 @@ def plane(normal=(0.0, 1.0, 0.0), offset: float = 0.0, restitution: float = 0.5,
     return post_step
 
 
-def sphere(center=(0.0, 0.0, 0.0), radius: float = 1.0, restitution: float = 0.0, friction: float = 0.0):
+def sphere(center=(0.0, 0.0, 0.0), radius: float = 1.0, restitution: float = 0.0,
+           friction: float = 0.0):
     """Post-step collision with a solid sphere (a head): particles inside are projected to
     its surface and lose their inward normal velocity."""
     c = np.asarray(center, dtype=float)

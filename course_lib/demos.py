@@ -1,0 +1,246 @@
+"""Small scenes for notebooks 05 (Newton's second law) and 06 (forces), and their widget.
+
+Each scene is a pure function built from :mod:`course_lib.forces`,
+:mod:`course_lib.systems` and :func:`course_lib.integrate`, so the notebooks, the tests
+and the widget all run the same code.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import collisions, forces
+from .events import crossing_ballistic
+from .integrators import Trajectory, integrate
+from .systems import newtonian, split_state, stack_state, sum_forces
+
+G_STD = 9.81  #: standard gravity (m/s²)
+
+
+# --- notebook 05: the apple ---------------------------------------------------------------
+
+
+def apple_drop(method: str, dt: float = 0.1, h0: float = 10.0, g: float = G_STD,
+               t_end: float = 2.0) -> Trajectory:
+    """An apple (1 kg) released at rest at height ``h0`` under constant gravity, in 2D.
+
+    The state is ``y = (x, v)`` of shape ``(2, 1, 2)``; the height is ``y[:, 0, 0, 1]``.
+    """
+    system = newtonian(forces.constant_gravity(1.0, g=[0.0, -g]), mass=1.0)
+    y0 = stack_state([[0.0, h0]], [[0.0, 0.0]])
+    return integrate(system, y0, (0.0, t_end), dt, method)
+
+
+def euler_apple_height(n, dt: float = 0.1, h0: float = 10.0, g: float = G_STD):
+    """Closed form of forward Euler's height after ``n`` steps: ``h0 - g dt² n(n-1)/2``."""
+    n = np.asarray(n, dtype=float)
+    return h0 - g * dt**2 * n * (n - 1) / 2
+
+
+def symplectic_apple_height(n, dt: float = 0.1, h0: float = 10.0, g: float = G_STD):
+    """Closed form of symplectic Euler's height after ``n`` steps: ``h0 - g dt² n(n+1)/2``."""
+    n = np.asarray(n, dtype=float)
+    return h0 - g * dt**2 * n * (n + 1) / 2
+
+
+# --- notebook 05: energy of the oscillator ---------------------------------------------
+
+
+def symplectic_modified_energy(y, omega: float, dt: float):
+    """``½ v² + ½ ω² x² - ½ dt ω² x v``: conserved exactly by symplectic Euler on
+    ``x'' = -ω² x`` (states ``(..., 2)`` in the layout ``(x, v)``)."""
+    y = np.asarray(y)
+    x, v = y[..., 0], y[..., 1]
+    return 0.5 * v**2 + 0.5 * omega**2 * x**2 - 0.5 * dt * omega**2 * x * v
+
+
+def verlet_modified_energy(y, omega: float, dt: float):
+    """``½ v² + ½ ω² (1 - ω² dt²/4) x²``: conserved exactly by velocity Verlet on
+    ``x'' = -ω² x``."""
+    y = np.asarray(y)
+    x, v = y[..., 0], y[..., 1]
+    return 0.5 * v**2 + 0.5 * omega**2 * (1.0 - 0.25 * (omega * dt) ** 2) * x**2
+
+
+# --- notebook 06: gravity -----------------------------------------------------------------
+
+
+def two_body_circular(M: float = 1.0, m: float = 0.01, r: float = 1.0, G: float = 1.0):
+    """Two bodies on circular orbits about their centre of mass (at rest at the origin).
+
+    Returns ``(masses, y0, period)``, with ``y0`` of shape ``(2, 2, 2)`` and the Kepler
+    period ``2π sqrt(r³ / (G (M + m)))`` of the separation ``r``.
+    """
+    total = M + m
+    v_rel = np.sqrt(G * total / r)
+    x = np.array([[-m / total * r, 0.0], [M / total * r, 0.0]])
+    v = np.array([[0.0, -m / total * v_rel], [0.0, M / total * v_rel]])
+    return np.array([M, m]), stack_state(x, v), 2 * np.pi * np.sqrt(r**3 / (G * total))
+
+
+def cluster(n: int = 8, seed: int = 2026, radius: float = 1.0):
+    """A small star cluster: ``n`` equal masses (total 1) in a disc, slowly rotating, with
+    zero total momentum and the centre of mass at the origin. Returns ``(masses, y0)``."""
+    rng = np.random.default_rng(seed)
+    rho = radius * np.sqrt(rng.uniform(0.05, 1.0, n))
+    phi = rng.uniform(0.0, 2 * np.pi, n)
+    x = np.column_stack((rho * np.cos(phi), rho * np.sin(phi)))
+    v = 0.4 * np.column_stack((-x[:, 1], x[:, 0])) + 0.1 * rng.normal(size=(n, 2))
+    m = np.full(n, 1.0 / n)
+    x -= m @ x / m.sum()
+    v -= m @ v / m.sum()
+    return m, stack_state(x, v)
+
+
+def angular_momentum(y, mass) -> np.ndarray:
+    """Total angular momentum ``Σ m (x v_y - y v_x)`` (2D, scalar) of a state or trajectory."""
+    x, v = split_state(y)
+    return np.sum(np.asarray(mass) * (x[..., 0] * v[..., 1] - x[..., 1] * v[..., 0]), axis=-1)
+
+
+def nbody_energy(y, mass, G: float = 1.0, softening: float = 0.0) -> np.ndarray:
+    """Kinetic plus (softened) gravitational potential energy of a state or trajectory."""
+    x, v = split_state(y)
+    kinetic = 0.5 * np.sum(np.asarray(mass) * np.sum(v * v, axis=-1), axis=-1)
+    return kinetic + forces.nbody_potential_energy(x, mass, G, softening)
+
+
+# --- notebook 06: contact -----------------------------------------------------------------
+
+
+def bouncing_ball(h0: float = 1.0, restitution: float = 0.8, g: float = G_STD,
+                  dt: float = 0.01, t_end: float = 3.0, locate: bool = True):
+    """A ball dropped from ``h0`` onto the ground ``y = 0``; returns ``(t, h, v)``.
+
+    ``locate=False`` is the usual post-step response (:func:`course_lib.collisions.plane`
+    after each velocity Verlet step): the ball is found below the ground at the end of a
+    step, moved back to the surface and its velocity reflected and scaled by ``e``.
+    ``locate=True`` finds the instant of impact inside the step by solving the step's own
+    quadratic (:func:`course_lib.events.crossing_ballistic`), bounces there and finishes
+    the step from the impact, which under constant gravity is exact (velocity Verlet's
+    step is the exact parabola). A ball whose rebound would last less than ``1e-9`` s
+    is put to rest on the ground.
+    """
+    if not locate:
+        system = newtonian(forces.constant_gravity(1.0, g=[0.0, -g]), mass=1.0)
+        ground = collisions.plane(normal=(0.0, 1.0), restitution=restitution)
+        y0 = stack_state([[0.0, h0]], [[0.0, 0.0]])
+        traj = integrate(system, y0, (0.0, t_end), dt, "velocity_verlet", post_step=ground)
+        return traj.t, traj.y[:, 0, 0, 1], traj.y[:, 1, 0, 1]
+    n = round(t_end / dt)
+    t = dt * np.arange(n + 1)
+    h = np.empty(n + 1)
+    v = np.empty(n + 1)
+    h[0], v[0] = h0, 0.0
+    hk, vk = h0, 0.0
+    for k in range(n):
+        left = dt
+        while left > 0.0:
+            if hk + vk * left - 0.5 * g * left**2 >= 0:
+                s = np.nan
+            elif hk == 0.0:                    # just bounced: back down after 2 v / g
+                s = 2.0 * vk / g
+            else:
+                s = crossing_ballistic(hk, vk, -g)
+            if not np.isfinite(s) or s > left:
+                hk, vk = hk + vk * left - 0.5 * g * left**2, vk - g * left
+                break
+            vk = -restitution * (vk - g * s)
+            hk = 0.0
+            left -= s
+            if 2 * vk / g < 1e-9:              # resting contact: stop bouncing
+                hk, vk, left = 0.0, 0.0, 0.0
+        h[k + 1], v[k + 1] = hk, vk
+    return t, h, v
+
+
+def charged_particle(q: float = 1.0, m: float = 1.0, B=(0.0, 0.0, 2.0), v0=(1.0, 0.0, 0.3),
+                     dt: float = 0.01, t_end: float = 10.0, method: str = "rk4") -> Trajectory:
+    """A charge released at the origin with velocity ``v0`` in a uniform magnetic field."""
+    system = newtonian(forces.magnetic(q, B), mass=m)
+    y0 = stack_state([[0.0, 0.0, 0.0]], [list(v0)])
+    return integrate(system, y0, (0.0, t_end), dt, method)
+
+
+# --- notebook 06: user control (the widget's pure half) -----------------------------------
+
+
+@dataclass
+class SteeringResult:
+    """What :func:`steer_swarm` returns."""
+
+    t: np.ndarray            #: times (s), shape (n+1,)
+    x: np.ndarray            #: positions (m), shape (n+1, N, 2)
+    center: np.ndarray       #: the attractor (m), shape (2,)
+    wind: np.ndarray         #: the wind (m/s), shape (2,)
+    centroid: np.ndarray     #: final mean position (m), shape (2,)
+    spread: float            #: final RMS distance to the centroid (m)
+
+
+def steer_swarm(cx: float = 0.0, cy: float = 0.0, strength: float = 1.0, wind: float = 0.0,
+                n: int = 40, t_end: float = 4.0, dt: float = 0.02, drag_b: float = 1.0,
+                seed: int = 2026) -> SteeringResult:
+    """Particles (1 kg each) pulled by a user-placed attractor and pushed by a wind.
+
+    The net force is ``attractor((cx, cy), strength) + drag(b, wind=(wind, 0))``; the
+    particles start at rest, scattered (seeded) over ``[-1, 1]²``, and are advanced by
+    symplectic Euler. Pure: same arguments, same result.
+    """
+    rng = np.random.default_rng(seed)
+    x0 = rng.uniform(-1.0, 1.0, size=(n, 2))
+    w = np.array([float(wind), 0.0])
+    center = np.array([float(cx), float(cy)])
+    net = sum_forces(forces.attractor(center, float(strength), softening=0.3),
+                     forces.drag(b=drag_b, wind=w))
+    traj = integrate(newtonian(net, mass=np.ones(n)), stack_state(x0, np.zeros_like(x0)),
+                     (0.0, t_end), dt, "symplectic_euler")
+    x = traj.y[:, 0]
+    centroid = x[-1].mean(axis=0)
+    spread = float(np.sqrt(np.mean(np.sum((x[-1] - centroid) ** 2, axis=1))))
+    return SteeringResult(traj.t, x, center, w, centroid, spread)
+
+
+def draw_swarm(result: SteeringResult, ax=None):
+    """Draw the particle paths, their final positions, the attractor and the wind."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(4.5, 4.5))
+    else:
+        fig = ax.figure
+    ax.plot(result.x[:, :, 0], result.x[:, :, 1], color="0.6", linewidth=0.6)
+    ax.plot(result.x[0, :, 0], result.x[0, :, 1], "o", color="0.6", markersize=3,
+            label="start")
+    ax.plot(result.x[-1, :, 0], result.x[-1, :, 1], "o", color="#1f77b4", markersize=4,
+            label="end")
+    ax.plot(*result.center, "*", color="#d62728", markersize=14, label="attractor")
+    if result.wind[0] != 0:
+        ax.annotate("", xy=(-2.2 + 0.4 * result.wind[0], 2.2), xytext=(-2.2, 2.2),
+                    arrowprops={"arrowstyle": "->", "color": "#2ca02c", "linewidth": 2})
+        ax.text(-2.2, 2.35, f"wind {result.wind[0]:g} m/s", color="#2ca02c", fontsize=9)
+    ax.set(xlim=(-2.6, 2.6), ylim=(-2.6, 2.6), xlabel="x (m)", ylabel="y (m)",
+           aspect="equal")
+    ax.legend(loc="lower right", fontsize=8)
+    return fig
+
+
+def steering_view(**initial):
+    """The widget: sliders for the attractor's position and strength and the wind."""
+    import ipywidgets as w
+
+    from .widgets import ExplorerView, log_slider
+
+    p = {"cx": 0.0, "cy": 0.0, "strength": 1.0, "wind": 0.0, **initial}
+    style = {"description_width": "initial"}
+    controls = {
+        "cx": w.FloatSlider(value=p["cx"], min=-2, max=2, step=0.1, description="attractor x (m)",
+                            continuous_update=False, style=style),
+        "cy": w.FloatSlider(value=p["cy"], min=-2, max=2, step=0.1, description="attractor y (m)",
+                            continuous_update=False, style=style),
+        "strength": log_slider("strength (N m²)", p["strength"], 0.1, 10.0),
+        "wind": w.FloatSlider(value=p["wind"], min=-3, max=3, step=0.1, description="wind (m/s)",
+                              continuous_update=False, style=style),
+    }
+    return ExplorerView(steer_swarm, draw_swarm, controls)
