@@ -53,6 +53,10 @@ def test_make_lab_serves_with_token(tmp_path):
         assert get(f"{base}/api/status")[0] == 403, "the API must require the token"
         assert get(f"{base}/api/contents/notebooks?token={token}")[0] == 200
         assert f"127.0.0.1:{port}" in output
+        # the landing page opens the first notebook
+        with urllib.request.urlopen(f"{base}/?token={token}", timeout=10) as r:
+            assert r.status == 200
+            assert r.geturl().split("?")[0].endswith("/lab/tree/notebooks/01_vector_fields.ipynb")
     finally:
         with contextlib.suppress(ProcessLookupError):
             os.killpg(proc.pid, signal.SIGTERM)

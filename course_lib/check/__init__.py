@@ -69,15 +69,16 @@ class Checker:
         except (TypeError, ValueError):
             return self.expect(False, what, f"expected a number/array, got {type(actual).__name__}", hint)
         e = np.asarray(expected, dtype=float)
-        if a.shape != e.shape:
-            return self.expect(False, what, f"expected shape {e.shape}, got shape {a.shape}", hint)
-        ok = bool(np.allclose(a, e, rtol=rtol, atol=atol))
+        ok = a.shape == e.shape and bool(np.allclose(a, e, rtol=rtol, atol=atol))
         if not ok and mistakes:
+            # A known mistake may have a different shape (a transposed or truncated answer).
             for mistake_hint, wrong in mistakes.items():
                 w = np.asarray(wrong, dtype=float)
                 if w.shape == a.shape and np.allclose(a, w, rtol=rtol, atol=atol):
                     hint = mistake_hint
                     break
+        if a.shape != e.shape:
+            return self.expect(False, what, f"expected shape {e.shape}, got shape {a.shape}", hint)
         return self.expect(ok, what, f"expected {_fmt(e)}, got {_fmt(a)}", hint)
 
 
