@@ -6,7 +6,7 @@ The pieces follow Baraff & Witkin's split: a model exposes ``f(t, y) -> dy/dt``
 such ``f`` without knowing the physics.
 """
 
-from . import collisions, fields, forces, springs, stability, systems
+from . import collisions, demos, events, fields, forces, springs, stability, systems
 from .implicit import ConvergenceError
 from .integrators import (
     EVALS_PER_STEP,
@@ -44,6 +44,8 @@ __all__ = [
     "amplification_factor",
     "backward_euler",
     "collisions",
+    "demos",
+    "events",
     "fields",
     "forces",
     "forward_euler",

@@ -64,6 +64,25 @@ def verlet_modified_energy(y, omega: float, dt: float):
     return 0.5 * v**2 + 0.5 * omega**2 * (1.0 - 0.25 * (omega * dt) ** 2) * x**2
 
 
+# --- notebook 06: drag --------------------------------------------------------------------
+
+
+def linear_drag_exact(t, x0, v0, m: float, b: float, g=(0.0, -G_STD), wind=(0.0, 0.0)):
+    """Exact motion of a mass ``m`` under gravity ``g`` and linear drag ``-b (v - wind)``.
+
+    The velocity relaxes to ``v_inf = wind + m g / b`` with time constant ``τ = m / b``:
+    ``v(t) = v_inf + (v0 - v_inf) e^{-t/τ}`` and
+    ``x(t) = x0 + v_inf t + (v0 - v_inf) τ (1 - e^{-t/τ})``. Returns ``(x, v)``, each of
+    shape ``(len(t), d)``.
+    """
+    t = np.asarray(t, dtype=float)[:, None]
+    x0, v0 = np.asarray(x0, dtype=float), np.asarray(v0, dtype=float)
+    tau = m / b
+    v_inf = np.asarray(wind, dtype=float) + tau * np.asarray(g, dtype=float)
+    decay = np.exp(-t / tau)
+    return x0 + v_inf * t + (v0 - v_inf) * tau * (1 - decay), v_inf + (v0 - v_inf) * decay
+
+
 # --- notebook 06: gravity -----------------------------------------------------------------
 
 
@@ -217,9 +236,11 @@ def draw_swarm(result: SteeringResult, ax=None):
             label="end")
     ax.plot(*result.center, "*", color="#d62728", markersize=14, label="attractor")
     if result.wind[0] != 0:
-        ax.annotate("", xy=(-2.2 + 0.4 * result.wind[0], 2.2), xytext=(-2.2, 2.2),
+        half = 0.2 * result.wind[0]
+        ax.annotate("", xy=(-1.6 + half, 2.1), xytext=(-1.6 - half, 2.1),
                     arrowprops={"arrowstyle": "->", "color": "#2ca02c", "linewidth": 2})
-        ax.text(-2.2, 2.35, f"wind {result.wind[0]:g} m/s", color="#2ca02c", fontsize=9)
+        ax.text(-1.6, 2.25, f"wind {result.wind[0]:g} m/s", color="#2ca02c", fontsize=9,
+                ha="center")
     ax.set(xlim=(-2.6, 2.6), ylim=(-2.6, 2.6), xlabel="x (m)", ylabel="y (m)",
            aspect="equal")
     ax.legend(loc="lower right", fontsize=8)
