@@ -1,0 +1,232 @@
+"""Every number quoted in notebook 02 (forward Euler), and its exercise checks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+import course_lib as cl
+from course_lib.check import RESULTS
+from course_lib.check import nb02 as check
+
+J = np.array([[0.0, -1.0], [1.0, 0.0]])
+
+
+def vortex_convergence():
+    """Section 4 of the notebook: error at T = π for N = 16 ... 2048 steps."""
+    T = np.pi
+    dts, errors = [], []
+    for n in 2 ** np.arange(4, 12):
+        traj = cl.integrate(cl.fields.vortex, [1.0, 0.0], (0.0, T), T / n)
+        exact = np.array([np.cos(traj.t[-1]), np.sin(traj.t[-1])])
+        dts.append(traj.dt)
+        errors.append(np.linalg.norm(traj.y[-1] - exact))
+    return np.array(dts), np.array(errors)
+
+
+# --- Section 1: constant velocity is exact -------------------------------------------------
+
+
+@pytest.mark.parametrize("dt", [0.5, 0.05])
+def test_constant_wind_is_exact_for_any_step(dt):
+    traj = cl.integrate(cl.fields.constant_wind((-1.0, -1.0)), [1.0, 2.0], (0.0, 0.5), dt)
+    np.testing.assert_allclose(traj.y[-1], [0.5, 1.5], rtol=0, atol=1e-14)
+
+
+def test_gust_rectangles():
+    traj = cl.integrate(lambda t, x: np.cos(t) * np.ones_like(x), [0.0], (0.0, 2.0), 0.5)
+    left = 0.5 * np.cos(np.array([0.0, 0.5, 1.0, 1.5]))
+    assert traj.y[-1, 0] == pytest.approx(left.sum(), rel=1e-14)
+    assert traj.y[-1, 0] == pytest.approx(1.244311, abs=5e-7)
+    assert np.sin(2.0) == pytest.approx(0.909297, abs=5e-7)
+
+
+# --- Section 2: the worked example ---------------------------------------------------------
+
+
+def test_worked_example_vortex():
+    traj = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 1.5), 0.5)
+    expected = [[0.0, 1.0], [-0.5, 1.0], [-1.0, 0.75], [-1.375, 0.25]]
+    np.testing.assert_allclose(traj.y, expected, rtol=0, atol=1e-15)
+    radii = np.linalg.norm(traj.y, axis=1)
+    np.testing.assert_allclose(radii, 1.25 ** (np.arange(4) / 2), rtol=1e-14)
+    np.testing.assert_allclose(radii, [1.0, 1.118034, 1.25, 1.397542], atol=5e-7)
+    assert traj.nfev == 3  # one evaluation per step
+
+
+# --- Section 3: the step matrix --------------------------------------------------------------
+
+
+@pytest.mark.parametrize("dt", [0.5, 0.25, 0.1])
+def test_radius_factor_every_step(dt):
+    traj = cl.integrate(cl.fields.vortex, [1.0, 0.0], (0.0, 4 * np.pi), dt)
+    r = np.linalg.norm(traj.y, axis=1)
+    np.testing.assert_allclose(r[1:] / r[:-1], math.sqrt(1 + dt * dt), rtol=1e-13)
+
+
+def test_printed_radius_factors():
+    for dt, printed in [(0.5, 1.118033989), (0.25, 1.030776406), (0.1, 1.004987562)]:
+        assert math.sqrt(1 + dt * dt) == pytest.approx(printed, abs=5e-10)
+
+
+@pytest.mark.parametrize("dt", [0.5, 0.1, 0.01])
+def test_step_matrix_and_amplification_factor(dt):
+    A = np.eye(2) + dt * J
+    y = np.array([0.3, -1.7])
+    np.testing.assert_allclose(cl.forward_euler(cl.fields.vortex, 0.0, y, dt), A @ y, rtol=1e-15)
+    eig = np.sort_complex(np.linalg.eigvals(A))
+    np.testing.assert_allclose(eig, [1 - 1j * dt, 1 + 1j * dt], rtol=1e-14)
+    assert abs(cl.amplification_factor("forward_euler", 1j * dt)) == pytest.approx(
+        math.sqrt(1 + dt * dt), rel=1e-15)
+    # a rotation by arctan(dt) scaled by sqrt(1 + dt^2)
+    c, s = np.cos(np.arctan(dt)), np.sin(np.arctan(dt))
+    np.testing.assert_allclose(A, math.sqrt(1 + dt * dt) * np.array([[c, -s], [s, c]]),
+                               rtol=1e-14)
+
+
+def test_angle_per_step():
+    X1 = cl.forward_euler(cl.fields.vortex, 0.0, [0.0, 1.0], 0.5)
+    turned = math.atan2(X1[1], X1[0]) - math.pi / 2
+    assert turned == pytest.approx(math.atan(0.5), rel=1e-14)
+    assert math.atan(0.5) == pytest.approx(0.4636, abs=5e-5)
+
+
+def test_drift_per_revolution_is_about_pi_dt():
+    for dt in [1e-2, 1e-3]:
+        growth = (1 + dt * dt) ** (math.pi / dt)
+        assert growth == pytest.approx(math.exp(math.pi * dt), rel=dt**3 * 2)
+        assert growth - 1 == pytest.approx(math.pi * dt, rel=2 * dt)
+    # one revolution simulated with dt = 2π/N matches the formula
+    n = 64
+    traj = cl.integrate(cl.fields.vortex, [1.0, 0.0], (0.0, 2 * np.pi), 2 * np.pi / n)
+    assert traj.n_steps == n
+    assert np.linalg.norm(traj.y[-1]) == pytest.approx(
+        (1 + (2 * np.pi / n) ** 2) ** (n / 2), rel=1e-12)
+
+
+# --- Section 4: convergence ------------------------------------------------------------------
+
+
+def test_observed_order_is_one():
+    dts, errors = vortex_convergence()
+    order = np.polyfit(np.log(dts), np.log(errors), 1)[0]
+    assert order == pytest.approx(cl.ORDER["forward_euler"], abs=0.05)
+    assert round(order, 3) == 1.025  # the value quoted in the prose
+    halvings = np.log2(errors[:-1] / errors[1:])
+    assert np.all(np.abs(halvings - 1) < 0.11)
+    assert abs(halvings[-1] - 1) < 0.005
+    assert errors[-1] == pytest.approx(2.4e-3, abs=0.05e-3)
+
+
+# --- Exercise 3: the 1 % drift step ----------------------------------------------------------
+
+
+def test_largest_one_percent_dt():
+    def excess(dt):
+        return (math.pi / dt) * math.log1p(dt * dt) - math.log(1.01)
+
+    exact = brentq(excess, 1e-9, 1.0, xtol=1e-17, rtol=1e-15)
+    assert exact == pytest.approx(0.0031673045681686, rel=1e-12)
+    assert check.largest_drift_dt(0.01) == pytest.approx(exact, rel=1e-12)
+    assert check.revolution_drift(exact) == pytest.approx(0.01, rel=1e-10)
+    assert round(exact, 8) == 0.00316730
+    assert round(2 * math.pi / exact) == 1984
+    # it lies between the two linearised estimates quoted in the prose
+    assert math.log(1.01) / math.pi < exact < 0.01 / math.pi
+    assert round(math.log(1.01) / math.pi, 8) == 0.00316729
+    assert round(0.01 / math.pi, 8) == 0.00318310
+    assert check.revolution_drift(0.01 / math.pi) > 0.01
+    assert check.largest_drift_dt(0.1) == pytest.approx(0.0303521, abs=5e-8)
+
+
+# --- the exercise checks ---------------------------------------------------------------------
+
+
+def verdict(run, answer, capsys, key):
+    RESULTS.pop(f"nb02.{key}", None)
+    run(answer)
+    return RESULTS[f"nb02.{key}"]["status"], capsys.readouterr().out
+
+
+def test_forward_euler_step_correct(capsys):
+    status, out = verdict(check.forward_euler_step, lambda f, t, y, dt: y + dt * f(t, y),
+                          capsys, "forward_euler_step")
+    assert status == "correct", out
+    assert RESULTS["nb02.forward_euler_step"]["total"] == 4
+
+
+def _in_place(f, t, y, dt):
+    y += dt * f(t, y)
+    return y
+
+
+@pytest.mark.parametrize("wrong, hint", [
+    (lambda f, t, y, dt: y + dt * f(t + dt, y), "START of the step"),
+    (lambda f, t, y, dt: y + dt * f(t + dt, y + dt * f(t, y)), "START of the step"),
+    (lambda f, t, y, dt: y + f(t, y), "multiply the slope by dt"),
+    (lambda f, t, y, dt: y - dt * f(t, y), "wrong sign"),
+    (lambda f, t, y, dt: dt * f(t, y), "not only the change"),
+    (_in_place, "in place"),
+    (lambda f, t, y, dt: y + 0.5 * dt * f(t, y), "y_next = y + dt * f(t, y)"),
+])
+def test_forward_euler_step_mistakes(wrong, hint, capsys):
+    status, out = verdict(check.forward_euler_step, wrong, capsys, "forward_euler_step")
+    assert status == "incorrect"
+    assert hint in out
+
+
+def _pending(*args):
+    raise NotImplementedError()
+
+
+@pytest.mark.parametrize("key", ["forward_euler_step", "radius_after", "drift_dt"])
+def test_pending(key, capsys):
+    status, out = verdict(getattr(check, key), _pending, capsys, key)
+    assert status == "pending"
+    assert "pending" in out
+
+
+def test_radius_after_correct(capsys):
+    status, out = verdict(check.radius_after, lambda r0, dt, n: r0 * (1 + dt**2) ** (n / 2),
+                          capsys, "radius_after")
+    assert status == "correct", out
+
+
+@pytest.mark.parametrize("wrong, hint", [
+    (lambda r0, dt, n: r0 * (1 + dt**2) ** n, "square root"),
+    (lambda r0, dt, n: r0 * (1 + dt) ** n, "not 1 + dt"),
+    (lambda r0, dt, n: r0 * (1 + dt**2 / 2) ** n, "only an approximation"),
+    (lambda r0, dt, n: r0 * math.sqrt(1 + n * dt**2), "compound it n times"),
+    (lambda r0, dt, n: (1 + dt**2) ** (n / 2), "starting radius r0"),
+    (lambda r0, dt, n: r0 * math.exp(n * dt), "r0 (1 + dt²)^(n/2)"),
+])
+def test_radius_after_mistakes(wrong, hint, capsys):
+    status, out = verdict(check.radius_after, wrong, capsys, "radius_after")
+    assert status == "incorrect"
+    assert hint in out
+
+
+def test_drift_dt_correct(capsys):
+    status, out = verdict(check.drift_dt, check.largest_drift_dt, capsys, "drift_dt")
+    assert status == "correct", out
+    # anything within the factor and under the bound is accepted
+    status, out = verdict(check.drift_dt, lambda tol: 0.85 * check.largest_drift_dt(tol),
+                          capsys, "drift_dt")
+    assert status == "correct", out
+
+
+@pytest.mark.parametrize("wrong, hint", [
+    (lambda tol: tol / math.pi, "instead of linearising"),
+    (lambda tol: check.largest_drift_dt(tol, steps_per_factor=1.0), "not (1 + dt²)^n"),
+    (lambda tol: 0.5 * check.largest_drift_dt(tol), "LARGEST step"),
+    (lambda tol: 1.1 * check.largest_drift_dt(tol), "scipy.optimize.brentq"),
+    (lambda tol: -1.0, "expected a step dt > 0"),
+    (lambda tol: "small", "expected a number"),
+])
+def test_drift_dt_mistakes(wrong, hint, capsys):
+    status, out = verdict(check.drift_dt, wrong, capsys, "drift_dt")
+    assert status == "incorrect"
+    assert hint in out

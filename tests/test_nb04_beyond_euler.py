@@ -1,0 +1,296 @@
+"""Every number quoted in notebook 04 (beyond Euler), and its exercise checks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import course_lib as cl
+from course_lib.check import RESULTS
+from course_lib.check import nb04 as check
+
+ONE_STEP = ["forward_euler", "midpoint", "heun", "rk4", "backward_euler", "trapezoidal"]
+J = np.array([[0.0, -1.0], [1.0, 0.0]])
+
+
+def closed_form_radius_factor(method: str, th: float) -> float:
+    """The |R(iθ)| column of the notebook's table."""
+    return {
+        "forward_euler": math.sqrt(1 + th**2),
+        "midpoint": math.sqrt(1 + th**4 / 4),
+        "heun": math.sqrt(1 + th**4 / 4),
+        "rk4": math.sqrt(1 - th**6 / 72 + th**8 / 576),
+        "backward_euler": 1 / math.sqrt(1 + th**2),
+        "trapezoidal": 1.0,
+    }[method]
+
+
+def exact_pulsing(t):
+    phi = t + 0.5 * np.sin(t)
+    return np.array([np.cos(phi), np.sin(phi)])
+
+
+def convergence_study(method: str):
+    """Section 4: the pulsing vortex over T = 2π, as in the notebook."""
+    T = 2 * np.pi
+    counts = 2 ** np.arange(3, 9) if method == "rk4" else 2 ** np.arange(5, 13)
+    dts, errors, nfev = [], [], []
+    for n in counts:
+        traj = cl.integrate(check.pulsing_vortex, [1.0, 0.0], (0.0, T), T / n, method=method)
+        dts.append(traj.dt)
+        errors.append(np.linalg.norm(traj.y[-1] - exact_pulsing(traj.t[-1])))
+        nfev.append(traj.nfev)
+    dts, errors, nfev = map(np.array, (dts, errors, nfev))
+    order = np.polyfit(np.log(dts[-4:]), np.log(errors[-4:]), 1)[0]
+    return dts, errors, nfev, order
+
+
+@pytest.fixture(scope="module")
+def study():
+    return {m: convergence_study(m) for m in ONE_STEP}
+
+
+# --- Section 1: the methods ----------------------------------------------------------------
+
+
+def test_pulsing_vortex_exact_solution():
+    from scipy.integrate import solve_ivp
+
+    sol = solve_ivp(check.pulsing_vortex, (0.0, 2 * np.pi), [1.0, 0.0], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(sol.y[:, -1], exact_pulsing(2 * np.pi), atol=1e-9)
+    np.testing.assert_allclose(exact_pulsing(2 * np.pi), [1.0, 0.0], atol=1e-15)
+
+
+def test_rk4_written_out_matches_course_lib():
+    def rk4_step(f, t, y, dt):
+        k1 = f(t, y)
+        k2 = f(t + dt / 2, y + dt / 2 * k1)
+        k3 = f(t + dt / 2, y + dt / 2 * k2)
+        k4 = f(t + dt, y + dt * k3)
+        return y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+    y0 = np.array([0.0, 1.0])
+    mine = rk4_step(check.pulsing_vortex, 0.3, y0, 0.5)
+    np.testing.assert_allclose(mine, cl.rk4(check.pulsing_vortex, 0.3, y0, 0.5), rtol=1e-14)
+    np.testing.assert_allclose(mine, [-0.65104, 0.757852], atol=5e-7)
+
+
+def test_implicit_steps_on_the_vortex():
+    X = np.array([0.0, 1.0])
+    be = cl.backward_euler(cl.fields.vortex, 0.0, X, 0.5)
+    trap = cl.trapezoidal(cl.fields.vortex, 0.0, X, 0.5)
+    np.testing.assert_allclose(be, [-0.4, 0.8], rtol=1e-12)
+    np.testing.assert_allclose(trap, [-8 / 17, 15 / 17], rtol=1e-12)
+    assert np.linalg.norm(be) == pytest.approx(0.894427, abs=5e-7)
+    assert np.linalg.norm(trap) == pytest.approx(1.0, rel=1e-12)
+
+
+def test_newton_needs_few_iterations_on_linear_field():
+    # per step: 1 evaluation for the guess (or f0), then 3 per Newton iteration in 2D
+    for m in ["backward_euler", "trapezoidal"]:
+        traj = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 10 * np.pi), 0.5, method=m)
+        assert traj.nfev <= traj.n_steps * (1 + 3 * 3)
+
+
+def test_orders_and_costs_table():
+    assert [cl.ORDER[m] for m in ONE_STEP] == [1, 2, 2, 4, 1, 2]
+    assert [cl.EVALS_PER_STEP[m] for m in ONE_STEP[:4]] == [1, 2, 2, 4]
+    assert not {"backward_euler", "trapezoidal"} & set(cl.EVALS_PER_STEP)
+    f = cl.fields.vortex
+    for m in ONE_STEP[:4]:
+        traj = cl.integrate(f, [0.0, 1.0], (0.0, 5.0), 0.5, method=m)
+        assert traj.nfev == cl.EVALS_PER_STEP[m] * traj.n_steps
+
+
+# --- Sections 2 and 3: radius drift per step ------------------------------------------------
+
+
+@pytest.mark.parametrize("method", ONE_STEP)
+@pytest.mark.parametrize("th", [0.5, 0.1, 1.0, 2.0])
+def test_closed_form_equals_amplification_factor(method, th):
+    R = cl.amplification_factor(method, 1j * th)
+    assert abs(R) == pytest.approx(closed_form_radius_factor(method, th), rel=1e-14)
+
+
+@pytest.mark.parametrize("method", ONE_STEP)
+def test_measured_radius_ratio(method):
+    dt = 0.5
+    traj = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 10 * np.pi), dt, method=method)
+    assert traj.n_steps == 63
+    r = np.linalg.norm(traj.y, axis=1)
+    np.testing.assert_allclose(r[1:] / r[:-1], closed_form_radius_factor(method, dt), rtol=1e-10)
+
+
+def test_quoted_factors_at_half_a_second():
+    f = {m: closed_form_radius_factor(m, 0.5) for m in ONE_STEP}
+    assert f["forward_euler"] == pytest.approx(1.11803399, abs=5e-9)
+    assert round(100 * (f["forward_euler"] - 1), 1) == 11.8
+    assert f["midpoint"] == pytest.approx(1.00778222, abs=5e-9)
+    assert round(100 * (f["midpoint"] - 1), 2) == 0.78
+    assert f["rk4"] == pytest.approx(0.99989488, abs=5e-9)
+    assert round(100 * (1 - f["rk4"]), 4) == 0.0105
+    assert f["backward_euler"] == pytest.approx(0.89442719, abs=5e-9)
+    assert f["trapezoidal"] == 1.0
+    # over the five revolutions (63 steps)
+    assert f["forward_euler"] ** 63 == pytest.approx(1130, rel=0.001)
+    assert f["midpoint"] ** 63 == pytest.approx(1.63, abs=0.005)
+    assert f["rk4"] ** 63 == pytest.approx(0.9934, abs=5e-5)
+
+
+def test_rk4_shrinks_below_sqrt8():
+    th = np.linspace(0.05, math.sqrt(8) - 1e-6, 500)
+    assert np.all(np.abs(cl.amplification_factor("rk4", 1j * th)) < 1)
+    assert abs(cl.amplification_factor("rk4", 1j * math.sqrt(8))) == pytest.approx(1, rel=1e-14)
+    assert cl.max_stable_dt("rk4", 1j) == pytest.approx(math.sqrt(8), rel=1e-10)
+
+
+def test_departure_from_one_reveals_the_order():
+    th = 1e-2
+    assert math.sqrt(1 + th**2) - 1 == pytest.approx(th**2 / 2, rel=1e-3)
+    assert math.sqrt(1 + th**4 / 4) - 1 == pytest.approx(th**4 / 8, rel=1e-3)
+    assert 1 - math.sqrt(1 - th**6 / 72 + th**8 / 576) == pytest.approx(th**6 / 144, rel=1e-3)
+
+
+def test_trapezoid_angle_per_step():
+    dt = 0.5
+    X1 = cl.trapezoidal(cl.fields.vortex, 0.0, [1.0, 0.0], dt)
+    assert math.atan2(X1[1], X1[0]) == pytest.approx(2 * math.atan(dt / 2), rel=1e-12)
+    assert 2 * math.atan(dt / 2) != pytest.approx(dt, rel=1e-3)
+
+
+def test_cayley_transform_is_a_rotation():
+    dt = 0.7
+    A = np.linalg.solve(np.eye(2) - dt / 2 * J, np.eye(2) + dt / 2 * J)
+    np.testing.assert_allclose(A.T @ A, np.eye(2), atol=1e-15)
+
+
+# --- Section 4: observed orders and costs ---------------------------------------------------
+
+
+@pytest.mark.parametrize("method, quoted", [
+    ("forward_euler", 1.009), ("midpoint", 2.000), ("heun", 2.000), ("rk4", 3.998),
+    ("backward_euler", 0.991), ("trapezoidal", 2.000),
+])
+def test_observed_orders(study, method, quoted):
+    order = study[method][3]
+    assert order == pytest.approx(cl.ORDER[method], abs=0.05)
+    assert round(order, 3) == quoted
+
+
+def test_cost_for_target_error(study):
+    need = {}
+    for m in ["forward_euler", "midpoint", "heun", "rk4"]:
+        _, errors, nfev, _ = study[m]
+        slope, icpt = np.polyfit(np.log(nfev[-4:]), np.log(errors[-4:]), 1)
+        need[m] = math.exp((math.log(1e-4) - icpt) / slope)
+    assert need["rk4"] == pytest.approx(150, rel=0.05)
+    assert need["midpoint"] == pytest.approx(1500, rel=0.05)
+    assert need["heun"] == pytest.approx(1500, rel=0.05)
+    assert need["forward_euler"] == pytest.approx(210_000, rel=0.05)
+
+
+def test_midpoint_and_heun_nearly_equal(study):
+    e_mid, e_heun = study["midpoint"][1], study["heun"][1]
+    np.testing.assert_allclose(e_mid[-4:], e_heun[-4:], rtol=1e-3)
+    assert not np.array_equal(e_mid, e_heun)
+
+
+# --- Exercise 2 aftermath: decay with k dt = 3 ----------------------------------------------
+
+
+def test_decay_large_step():
+    k, dt, n = 1.0, 3.0, 4
+    closed = check.decay_closed_form(1.0, k, dt, n)
+    np.testing.assert_allclose(closed, [1, 0.25, 0.0625, 0.015625, 0.00390625], rtol=1e-15)
+    np.testing.assert_allclose(check.decay_newton(1.0, k, dt, n), closed, rtol=1e-12)
+    fe = cl.integrate(lambda t, x: -k * x, [1.0], (0.0, n * dt), dt).y[:, 0]
+    np.testing.assert_allclose(fe, [1, -2, 4, -8, 16], rtol=1e-15)
+    assert cl.amplification_factor("forward_euler", -3.0) == -2
+    assert cl.amplification_factor("backward_euler", -3.0) == pytest.approx(0.25)
+
+
+# --- the exercise checks ---------------------------------------------------------------------
+
+
+def verdict(run, answer, capsys, key):
+    RESULTS.pop(f"nb04.{key}", None)
+    run(answer)
+    return RESULTS[f"nb04.{key}"]["status"], capsys.readouterr().out
+
+
+def _midpoint(f, t, y, dt):
+    y_mid = y + 0.5 * dt * f(t, y)
+    return y + dt * f(t + 0.5 * dt, y_mid)
+
+
+def test_midpoint_step_correct(capsys):
+    status, out = verdict(check.midpoint_step, _midpoint, capsys, "midpoint_step")
+    assert status == "correct", out
+    assert RESULTS["nb04.midpoint_step"]["total"] == 4
+
+
+def _in_place(f, t, y, dt):
+    k1 = f(t, y)
+    y_mid = y + 0.5 * dt * k1
+    y += dt * f(t + 0.5 * dt, y_mid)
+    return y
+
+
+@pytest.mark.parametrize("wrong, hint", [
+    (lambda f, t, y, dt: y + dt * f(t, y), "start slope"),
+    (lambda f, t, y, dt: y + dt * f(t, y + 0.5 * dt * f(t, y)), "not at t"),
+    (lambda f, t, y, dt: y + dt * f(t + dt, y + 0.5 * dt * f(t, y)), "not t + dt"),
+    (lambda f, t, y, dt: y + dt * f(t + 0.5 * dt, y + dt * f(t, y)), "half a step away"),
+    (lambda f, t, y, dt: y + 0.5 * dt * (f(t, y) + f(t + dt, y + dt * f(t, y))), "Heun"),
+    (lambda f, t, y, dt: y + 0.5 * dt * f(t, y), "half-step prediction"),
+    (_in_place, "in place"),
+    (lambda f, t, y, dt: y + 0.5 * dt * f(t + 0.5 * dt, y + 0.5 * dt * f(t, y)),
+     "y_mid = y + (dt/2) f(t, y); y_next"),
+])
+def test_midpoint_step_mistakes(wrong, hint, capsys):
+    status, out = verdict(check.midpoint_step, wrong, capsys, "midpoint_step")
+    assert status == "incorrect"
+    assert hint in out
+
+
+@pytest.mark.parametrize("key", ["midpoint_step", "backward_euler_decay"])
+def test_pending(key, capsys):
+    def stub(*args):
+        raise NotImplementedError()
+
+    status, out = verdict(getattr(check, key), stub, capsys, key)
+    assert status == "pending"
+    assert "pending" in out
+
+
+def test_backward_euler_decay_correct(capsys):
+    status, out = verdict(check.backward_euler_decay, check.decay_closed_form, capsys,
+                          "backward_euler_decay")
+    assert status == "correct", out
+    assert "Newton" in out
+
+    def stepping(x0, k, dt, n):  # a loop instead of the power is just as good
+        xs = [x0]
+        for _ in range(n):
+            xs.append(xs[-1] / (1 + k * dt))
+        return xs
+
+    status, out = verdict(check.backward_euler_decay, stepping, capsys, "backward_euler_decay")
+    assert status == "correct", out
+
+
+@pytest.mark.parametrize("wrong, hint", [
+    (lambda x0, k, dt, n: x0 * (1 - k * dt) ** np.arange(n + 1), "FORWARD Euler"),
+    (lambda x0, k, dt, n: x0 / (1 - k * dt) ** np.arange(n + 1) if k * dt != 1
+     else np.full(n + 1, x0), "divide by (1 + k dt)"),
+    (lambda x0, k, dt, n: x0 * np.exp(-k * dt * np.arange(n + 1)), "exact solution"),
+    (lambda x0, k, dt, n: x0 / (1 + k) ** np.arange(n + 1), "left out dt"),
+    (lambda x0, k, dt, n: x0 / (1 + k * dt) ** np.arange(1, n + 1), "initial value"),
+    (lambda x0, k, dt, n: x0 / (1 + k * dt) ** np.arange(n + 2), "expected shape"),
+])
+def test_backward_euler_decay_mistakes(wrong, hint, capsys):
+    status, out = verdict(check.backward_euler_decay, wrong, capsys, "backward_euler_decay")
+    assert status == "incorrect"
+    assert hint in out
