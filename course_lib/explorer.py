@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import MaxNLocator, MultipleLocator
 
 from .integrators import IMPLICIT_METHODS, METHODS, NEWTONIAN_METHODS, integrate, step
 from .plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS
@@ -290,8 +291,8 @@ def run_experiment(
     if problem == "decay" and method in NEWTONIAN_METHODS:
         nan = float("nan")
         verdict = (
-            f"does not apply: {METHOD_LABELS[method]} needs a second-order state (x, v), "
-            "and the decay dx/dt = -k x is first order. Choose the oscillator."
+            f"does not apply: {METHOD_LABELS[method]} needs a second-order state (x, v); "
+            "the decay is first order. Choose the oscillator."
         )
         return ExperimentResult(
             problem, method, dt, rate, t_end, lam, z, complex(nan, nan), nan, False, False,
@@ -342,7 +343,7 @@ def run_experiment(
 # --- drawing ------------------------------------------------------------------------------
 
 #: Window of the complex plane shown beside a run (Re z, Im z limits).
-REGION_WINDOW = (-5.0, 3.0, -4.0, 4.0)
+REGION_WINDOW = (-5.0, 3.0, -3.5, 3.5)
 
 
 @functools.lru_cache(maxsize=16)
@@ -356,11 +357,14 @@ def region_grid(method: str, window: tuple = REGION_WINDOW, n: int = 241):
     return re, im, absR
 
 
-def draw_region(ax, method: str, window: tuple = REGION_WINDOW, *, label: bool = True) -> None:
+def draw_region(
+    ax, method: str, window: tuple = REGION_WINDOW, *, label: bool = True, decorate: bool = True
+) -> None:
     """Shade ``|R(z)| <= 1`` of ``method`` on ``ax`` (equal aspect, labelled axes).
 
     The symplectic methods' stable set (for ``x'' = λ² x``) is the segment
     ``z ∈ [-2i, 2i]`` of the imaginary axis, which has no area: it is drawn as a thick line.
+    ``decorate=False`` draws the region only (no axes lines, limits or labels).
     """
     color = METHOD_COLORS[method]
     if method in NEWTONIAN_METHODS:
@@ -373,6 +377,8 @@ def draw_region(ax, method: str, window: tuple = REGION_WINDOW, *, label: bool =
         ax.contour(re, im, absR, levels=[1.0], colors=[color], linewidths=1.5)
         if label:
             ax.fill([], [], color=color, alpha=0.3, label="|R| ≤ 1")
+    if not decorate:
+        return
     ax.axhline(0, color="0.4", lw=0.8)
     ax.axvline(0, color="0.4", lw=0.8)
     ax.set_xlim(window[0], window[1])
@@ -382,56 +388,164 @@ def draw_region(ax, method: str, window: tuple = REGION_WINDOW, *, label: bool =
     ax.set_ylabel("Im z")
 
 
-def draw_experiment(result: ExperimentResult, fig=None):
-    """Plot a result: the run beside the exact solution, and ``z`` on the stability region.
+def _wrap(text: str, width: int) -> str:
+    import textwrap
 
-    Returns the figure (two axes); ``fig`` lets a caller supply its own.
+    return "\n".join(textwrap.wrap(text, width))
+
+
+#: Size of the explorer's figure (in).
+FIGSIZE = (10.0, 4.2)
+
+
+class ExperimentPlot:
+    """The explorer's figure, redrawn in place: the run beside the exact solution (left),
+    and ``z`` on the method's stability region (right), the verdict underneath.
+
+    Calling the object with an :class:`ExperimentResult` updates the data of its artists
+    and returns the figure. Reusing one figure (rather than building axes anew) keeps a
+    redraw within the explorer's time budget.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into; by default a new one, released from pyplot (so the notebook's
+        inline backend does not show it a second time).
     """
-    r = result
-    if fig is None:
-        fig = plt.figure(figsize=(10.0, 4.2))
-    ax_t, ax_z = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.5, 1.0]})
-    color = METHOD_COLORS[r.method]
-    name = METHOD_LABELS[r.method]
-    exact_label = "exact  e^{-kt}" if r.problem == "decay" else "exact  cos ωt"
-    ax_t.plot(r.t_exact, r.x_exact, label=exact_label, **EXACT_STYLE)
-    if r.applicable:
-        ax_t.plot(r.t, r.x, "o-", color=color, ms=3, lw=1.2, label=f"{name}, dt = {r.dt:.3g} s")
-        if r.blowup_step is not None:
-            ax_t.plot(r.t[r.blowup_step], r.x[r.blowup_step], "X", color="black", ms=10,
-                      label=f"blew up at step {r.blowup_step}")
-        top = np.nanmax(np.abs(r.x))
-    else:
-        top = 1.0
-        ax_t.text(0.5, 0.5, f"{name} does not apply\nto a first-order problem",
-                  transform=ax_t.transAxes, ha="center", va="center", color=color)
-    top = 1.15 * max(1.0, top if np.isfinite(top) else 1.0)
-    ax_t.set_ylim(-top, top)
-    ax_t.set_xlim(0.0, r.t_end)
-    ax_t.set_xlabel("time t (s)")
-    ax_t.set_ylabel("position x (m)")
-    ax_t.legend(loc="upper right", fontsize=9)
-    status = "STABLE" if r.stable else ("N/A" if not r.applicable else "UNSTABLE")
-    ax_t.set_title(f"{PROBLEMS[r.problem]}, {'k' if r.problem == 'decay' else 'ω'} = "
-                   f"{r.rate:.3g} /s: {status}", fontsize=11)
 
-    draw_region(ax_z, r.method)
-    x0, x1, y0, y1 = REGION_WINDOW
-    if np.isfinite(r.z.real):
+    def __init__(self, fig=None):
+        if fig is None:
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+            # Made through pyplot so that the backend (in a notebook: the inline one, which
+            # lets IPython display figures as PNG) is loaded; closed at once so that pyplot
+            # does not show it by itself (the view displays it), then given an Agg canvas
+            # of its own again, since closing leaves it a canvas that cannot draw.
+            fig = plt.figure(figsize=FIGSIZE)
+            plt.close(fig)
+            FigureCanvasAgg(fig)
+        self.fig = fig
+        self.ax_t, self.ax_z = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.5, 1.0]})
+        ax_t, ax_z = self.ax_t, self.ax_z
+        self.exact_line, = ax_t.plot([], [], **EXACT_STYLE)
+        self.num_line, = ax_t.plot([], [], "o-", ms=3, lw=1.2)
+        self.blow_marker, = ax_t.plot([], [], "X", color="black", ms=10)
+        self.na_text = ax_t.text(0.5, 0.5, "", transform=ax_t.transAxes, ha="center",
+                                 va="center")
+        ax_t.set_xlabel("time t (s)")
+        ax_t.set_ylabel("position x (m)")
+        x0, x1, y0, y1 = REGION_WINDOW
+        ax_z.axhline(0, color="0.4", lw=0.8)
+        ax_z.axvline(0, color="0.4", lw=0.8)
+        ax_z.set_xlim(x0, x1)
+        ax_z.set_ylim(y0, y1)
+        ax_z.set_aspect("equal")
+        ax_z.set_xlabel("Re z   (z = λ dt)")
+        ax_z.set_ylabel("Im z")
+        self.z_marker, = ax_z.plot([], [], "*", color="black", ms=14)
+        self.z_arrow = ax_z.annotate("", xy=(0, 0), xytext=(0, 0), visible=False,
+                                     arrowprops={"arrowstyle": "->", "color": "black", "lw": 2})
+        # Few ticks: drawing text dominates the redraw time.
+        ax_t.xaxis.set_major_locator(MaxNLocator(4))
+        ax_t.yaxis.set_major_locator(MaxNLocator(4))
+        ax_z.xaxis.set_major_locator(MultipleLocator(2))
+        ax_z.yaxis.set_major_locator(MultipleLocator(2))
+        # An explicit title position spares matplotlib a layout pass on every redraw.
+        self.title_t = ax_t.set_title("", fontsize=11, y=1.01)
+        self.title_z = ax_z.set_title("", fontsize=10, y=1.01)
+        self.verdict_text = fig.text(0.01, 0.02, "", fontsize=10, va="bottom")
+        fig.subplots_adjust(left=0.07, right=0.98, top=0.87, bottom=0.2, wspace=0.25)
+        self._region: list = []
+        self._region_method: str | None = None
+
+    def _set_region(self, method: str) -> None:
+        if method == self._region_method:
+            return
+        for artist in self._region:
+            artist.remove()
+        before = set(self.ax_z.get_children())
+        draw_region(self.ax_z, method, label=False, decorate=False)
+        self._region = [a for a in self.ax_z.get_children() if a not in before]
+        self._region_method = method
+
+    def __call__(self, result: ExperimentResult):
+        r = result
+        color = METHOD_COLORS[r.method]
+        name = METHOD_LABELS[r.method]
+        ax_t = self.ax_t
+
+        self.exact_line.set_data(r.t_exact, r.x_exact)
+        self.exact_line.set_label("exact  exp(−k t)" if r.problem == "decay" else "exact  cos ωt")
+        handles = [self.exact_line]
+        top = 1.0
+        if r.applicable:
+            self.num_line.set_data(r.t, r.x)
+            self.num_line.set_color(color)
+            self.num_line.set_label(f"{name}, dt = {r.dt:.3g} s")
+            handles.append(self.num_line)
+            finite = r.x[np.isfinite(r.x)]
+            top = max(top, float(np.max(np.abs(finite))))
+            self.na_text.set_text("")
+        else:
+            self.num_line.set_data([], [])
+            self.na_text.set_text(f"{name} does not apply\nto a first-order problem")
+            self.na_text.set_color(color)
+        if r.blowup_step is not None:
+            self.blow_marker.set_data([r.t[r.blowup_step]], [r.x[r.blowup_step]])
+            self.blow_marker.set_label(f"blew up at step {r.blowup_step}")
+            handles.append(self.blow_marker)
+        else:
+            self.blow_marker.set_data([], [])
+        ax_t.set_xlim(0.0, r.t_end)
+        ax_t.set_ylim(-1.15 * top, 1.75 * top)  # headroom for the legend
+        ax_t.legend(handles=handles, loc="upper right", fontsize=9)
+        status = "stable" if r.stable else ("not applicable" if not r.applicable else "UNSTABLE")
+        symbol = "k" if r.problem == "decay" else "ω"
+        self.title_t.set_text(f"{r.problem}, {symbol} = {r.rate:.3g} /s: {status}")
+
+        self._set_region(r.method)
+        x0, x1, y0, y1 = REGION_WINDOW
+        zlabel = f"★ z = λ dt = {_fmt_complex(r.z)}"
+        if r.applicable:
+            zlabel += f",  |R| = {_fmt_factor(r.abs_R)}"
         inside = x0 <= r.z.real <= x1 and y0 <= r.z.imag <= y1
-        zlabel = f"z = {r.z.real:.3g}{r.z.imag:+.3g}i, |R| = {_fmt_factor(r.abs_R)}"
-        if inside:
-            ax_z.plot(r.z.real, r.z.imag, "*", color="black", ms=14, label=zlabel)
-        else:  # show where it is: an arrow at the window's edge
-            zc = complex(np.clip(r.z.real, x0 + 0.3, x1 - 0.3), np.clip(r.z.imag, y0 + 0.3, y1 - 0.3))
-            ax_z.annotate("", xy=(zc.real, zc.imag), xytext=(0.6 * zc.real, 0.6 * zc.imag),
-                          arrowprops={"arrowstyle": "->", "color": "black", "lw": 2})
-            ax_z.plot([], [], "*", color="black", ms=14, label=zlabel + " (off view)")
-    ax_z.set_title(f"{name}: stability region", fontsize=11)
-    ax_z.legend(loc="upper left", fontsize=8, framealpha=0.85, frameon=True)
-    fig.suptitle(r.verdict, fontsize=10, y=0.02, va="bottom", wrap=True)
-    fig.subplots_adjust(left=0.07, right=0.98, top=0.91, bottom=0.2, wspace=0.25)
-    return fig
+        if not r.applicable:
+            zlabel = "(for x'' = λ² x: the oscillator)"
+            self.z_marker.set_data([], [])
+            self.z_arrow.set_visible(False)
+        elif inside:
+            self.z_marker.set_data([r.z.real], [r.z.imag])
+            self.z_arrow.set_visible(False)
+        else:  # show where it is: an arrow towards it at the window's edge
+            zlabel += " (off view)"
+            self.z_marker.set_data([], [])
+            tip = (float(np.clip(r.z.real, x0 + 0.3, x1 - 0.3)),
+                   float(np.clip(r.z.imag, y0 + 0.3, y1 - 0.3)))
+            self.z_arrow.xy = tip
+            self.z_arrow.set_position((0.6 * tip[0], 0.6 * tip[1]))
+            self.z_arrow.set_visible(True)
+        shape = "on a segment" if r.method in NEWTONIAN_METHODS else "shaded"
+        self.title_z.set_text(f"{name}: |R(z)| ≤ 1 {shape}\n{zlabel}")
+        self.verdict_text.set_text(_wrap(r.verdict, 125))
+        return self.fig
+
+
+def _fmt_complex(z: complex) -> str:
+    if z.imag == 0:
+        return f"{z.real:.3g}"
+    if z.real == 0:
+        return f"{z.imag:.3g}i"
+    return f"{z.real:.3g}{z.imag:+.3g}i"
+
+
+def draw_experiment(result: ExperimentResult, fig=None):
+    """Plot one result (see :class:`ExperimentPlot`) in a new pyplot figure, or in ``fig``.
+
+    For static pictures in a notebook: ``draw_experiment(run_experiment(...)); plt.show()``.
+    """
+    if fig is None:
+        fig = plt.figure(figsize=FIGSIZE)
+    return ExperimentPlot(fig)(result)
 
 
 def stability_explorer(
@@ -456,4 +570,4 @@ def stability_explorer(
                               description="k or ω (1/s)", continuous_update=False,
                               style={"description_width": "initial"}),
     }
-    return ExplorerView(run_experiment, draw_experiment, controls)
+    return ExplorerView(run_experiment, ExperimentPlot(), controls)
