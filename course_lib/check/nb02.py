@@ -52,24 +52,18 @@ _STEP_CASES = [
 @exercise
 def forward_euler_step(ck: Checker, student) -> None:
     """Compare ``student(f, t, y, dt)`` with :func:`course_lib.forward_euler`."""
-    for what, f, t, y, dt in _STEP_CASES:
-        y = np.asarray(y, dtype=float)
-        y_in = y.copy()
-        got = student(f, t, y_in, dt)
-        if not np.array_equal(y_in, y):
-            ck.expect(False, what, "your function changed its input y",
-                      "build a new array (y + dt * f(t, y)) instead of updating y in place")
-            continue
+    def mistakes(f, t, y, dt):
         k1 = f(t, y)
-        mistakes = {
+        return {
             _SLOPE_AT_END: y + dt * f(t + dt, y),
             _SLOPE_AT_END + " ": y + dt * f(t + dt, y + dt * k1),
             _NO_DT: y + k1,
             _SIGN: y - dt * k1,
             _INCREMENT: dt * k1,
         }
-        ck.close(got, forward_euler(f, t, y, dt), what, rtol=1e-12, atol=1e-14,
-                 hint="forward Euler is y_next = y + dt * f(t, y)", mistakes=mistakes)
+
+    ck.one_step_cases(student, _STEP_CASES, forward_euler, mistakes,
+                      hint="forward Euler is y_next = y + dt * f(t, y)")
 
 
 def radius_formula(r0: float, dt: float, n: int) -> float:

@@ -62,17 +62,10 @@ _MIDPOINT_CASES = [
 @exercise
 def midpoint_step(ck: Checker, student) -> None:
     """Compare ``student(f, t, y, dt)`` with :func:`course_lib.midpoint`."""
-    for what, f, t, y, dt in _MIDPOINT_CASES:
-        y = np.asarray(y, dtype=float)
-        y_in = y.copy()
-        got = student(f, t, y_in, dt)
-        if not np.array_equal(y_in, y):
-            ck.expect(False, what, "your function changed its input y",
-                      "build new arrays instead of updating y in place (y += ...)")
-            continue
+    def mistakes(f, t, y, dt):
         k1 = f(t, y)
         y_mid = y + 0.5 * dt * k1
-        mistakes = {
+        return {
             _START_TWICE: y + dt * k1,
             _TIME_AT_START: y + dt * f(t, y_mid),
             _TIME_AT_END: y + dt * f(t + dt, y_mid),
@@ -80,9 +73,9 @@ def midpoint_step(ck: Checker, student) -> None:
             _HEUN: y + 0.5 * dt * (k1 + f(t + dt, y + dt * k1)),
             _RETURNED_MID: y_mid,
         }
-        ck.close(got, midpoint(f, t, y, dt), what, rtol=1e-12, atol=1e-14,
-                 hint="y_mid = y + (dt/2) f(t, y); y_next = y + dt f(t + dt/2, y_mid)",
-                 mistakes=mistakes)
+
+    ck.one_step_cases(student, _MIDPOINT_CASES, midpoint, mistakes,
+                      hint="y_mid = y + (dt/2) f(t, y); y_next = y + dt f(t + dt/2, y_mid)")
 
 
 _DECAY_CASES = [(1.0, 1.0, 0.1, 10), (2.0, 5.0, 0.5, 6), (1.0, 100.0, 0.1, 5), (3.0, 0.5, 2.0, 0)]
