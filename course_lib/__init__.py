@@ -6,7 +6,7 @@ The pieces follow Baraff & Witkin's split: a model exposes ``f(t, y) -> dy/dt``
 such ``f`` without knowing the physics.
 """
 
-from . import collisions, demos, events, fields, forces, springs, stability, systems
+from . import collisions, demos, events, fields, forces, hair, springs, stability, systems
 from .implicit import ConvergenceError
 from .integrators import (
     EVALS_PER_STEP,
@@ -50,6 +50,7 @@ __all__ = [
     "forces",
     "forward_euler",
     "get_stepper",
+    "hair",
     "heun",
     "integrate",
     "is_stable",

@@ -63,7 +63,8 @@ class SpringNetwork:
             if not np.all(np.isfinite(arr)) or np.any(arr < 0):
                 raise ValueError(f"{name} must be finite and >= 0 for every spring")
             setattr(self, name, arr)
-        if m and (self.i.min() < 0 or self.j.min() < 0 or max(self.i.max(), self.j.max()) >= self.n_particles):
+        if m and (min(self.i.min(), self.j.min()) < 0
+                  or max(self.i.max(), self.j.max()) >= self.n_particles):
             raise ValueError(f"spring end indices must lie in [0, {self.n_particles})")
         if m and np.any(self.i == self.j):
             raise ValueError("a spring must join two different particles (i != j)")
@@ -162,6 +163,7 @@ def hair_chain(
     root=(0.0, 0.0, 0.0),
     direction=(1.0, 0.0, 0.0),
     curl: float = 0.0,
+    zigzag: float = 0.0,
 ) -> tuple[np.ndarray, SpringNetwork]:
     """A strand of ``n`` particles joined by edge springs (i, i+1), bending springs (i, i+2)
     and, optionally, torsion springs (i, i+3).
@@ -184,6 +186,10 @@ def hair_chain(
         Turn angle (rad) between successive segments in the plane of ``direction`` and
         ``y``: 0 lays the strand straight; a small curl gives the bending springs a
         curved rest shape (rest lengths are measured on the initial shape).
+    zigzag : float
+        Offset of every odd particle along the side direction, in units of the segment
+        length: a non-zero zigzag makes the rest shape non-collinear, so the bending
+        springs resist bending to first order (on a straight strand they do not).
 
     Returns
     -------
@@ -204,6 +210,7 @@ def hair_chain(
     angles = curl * np.arange(n - 1)
     steps = seg * (np.cos(angles)[:, None] * d + np.sin(angles)[:, None] * side)
     x0 = np.asarray(root, dtype=float) + np.vstack([np.zeros(3), np.cumsum(steps, axis=0)])
+    x0[1::2] += zigzag * seg * side
     families = [(1, k_edge, c_edge, "edge"), (2, k_bend, c_bend, "bend"), (3, k_twist, 0.0, "twist")]
     ii, jj, kk, cc, kinds = [], [], [], [], []
     for offset, k, c, name in families:
@@ -273,3 +280,252 @@ def spring_force_pair(x1, x2, k: float, rest: float) -> np.ndarray:
     d = np.asarray(x1, dtype=float) - np.asarray(x2, dtype=float)
     length = np.linalg.norm(d, axis=-1, keepdims=True)
     return -k * (length - rest) * d / length
+
+
+# --- linearization, damping and time-step limits ----------------------------------------
+
+
+def stiffness_matrix(network: SpringNetwork, x) -> np.ndarray:
+    """Hessian ``K = ∂²E/∂x²`` of the elastic energy at positions ``x`` (N/m).
+
+    For a spring with unit vector ``u`` and length ``ℓ``, the block of particle ``i`` is
+    ``K_s = k [u uᵀ + (1 - L/ℓ)(I - u uᵀ)]``; ``(j, j)`` gets ``K_s`` too and the two
+    off-diagonal blocks ``-K_s``. Small motions ``δx`` about ``x`` feel ``δF = -K δx``.
+
+    Returns
+    -------
+    ndarray, shape (N d, N d)
+        Dense and symmetric; row ``a d + p`` is component ``p`` of particle ``a``.
+    """
+    x = np.asarray(x, dtype=float)
+    n, d = x.shape
+    diff = x[network.i] - x[network.j]
+    length = np.linalg.norm(diff, axis=1)
+    u = diff / length[:, None]
+    uu = u[:, :, None] * u[:, None, :]
+    eye = np.eye(d)[None]
+    blocks = network.k[:, None, None] * (uu + (1.0 - network.rest / length)[:, None, None] * (eye - uu))
+    K = np.zeros((n, n, d, d))
+    np.add.at(K, (network.i, network.i), blocks)
+    np.add.at(K, (network.j, network.j), blocks)
+    np.add.at(K, (network.i, network.j), -blocks)
+    np.add.at(K, (network.j, network.i), -blocks)
+    return K.transpose(0, 2, 1, 3).reshape(n * d, n * d)
+
+
+def max_frequency(network: SpringNetwork, x, mass, pinned=None) -> float:
+    """Highest angular frequency ``ω_max`` (rad/s) of small oscillations about ``x``.
+
+    The square roots of the eigenvalues of ``M^{-1/2} K M^{-1/2}`` over the free (not
+    pinned) particles. An explicit method is stable while ``ω_max dt`` stays inside its
+    stability interval, e.g. ``dt <= 2 / ω_max`` for symplectic Euler.
+    """
+    x = np.asarray(x, dtype=float)
+    n, d = x.shape
+    K = stiffness_matrix(network, x)
+    m = np.broadcast_to(np.asarray(mass, dtype=float), (n,))
+    free = np.setdiff1d(np.arange(n), np.asarray([] if pinned is None else pinned, dtype=int))
+    dofs = (free[:, None] * d + np.arange(d)).ravel()
+    w = 1.0 / np.sqrt(np.repeat(m[free], d))
+    A = K[np.ix_(dofs, dofs)] * w[:, None] * w[None, :]
+    return float(np.sqrt(max(np.linalg.eigvalsh(A).max(), 0.0)))
+
+
+def chain_max_frequency(n_free: int, k: float, m: float) -> float:
+    """Exact ``ω_max`` of a chain of ``n_free`` equal masses ``m`` joined by equal springs
+    ``k`` and fixed at one end (longitudinal motion): ``2 √(k/m) sin((2N-1)π / (4N+2))``.
+    Tends to ``2 √(k/m)`` as the chain grows."""
+    return float(2.0 * np.sqrt(k / m) * np.sin((2 * n_free - 1) * np.pi / (4 * n_free + 2)))
+
+
+def critical_damping(k: float, m: float) -> float:
+    """Damping ``c = 2 √(k m)`` (N s/m) at which a mass ``m`` on a spring ``k`` returns to
+    rest fastest without oscillating."""
+    return float(2.0 * np.sqrt(_validate.positive_finite("k", k) * _validate.positive_finite("m", m)))
+
+
+def damped_oscillator(t, k: float, m: float, c: float = 0.0, x0: float = 1.0, v0: float = 0.0,
+                      velocity: bool = False):
+    """Exact displacement ``x(t)`` (or velocity, with ``velocity=True``) of
+    ``m x'' + c x' + k x = 0`` with ``x(0) = x0``, ``x'(0) = v0``.
+
+    Under-damped (``c < 2√(km)``) it oscillates inside a decaying envelope, critically
+    damped it is ``(x0 + (v0 + ω x0) t) e^{-ω t}`` with ``ω = √(k/m)``, over-damped it
+    is a sum of two decaying exponentials.
+    """
+    t = np.asarray(t, dtype=float)
+    omega = np.sqrt(k / m)
+    zeta = c / (2.0 * np.sqrt(k * m))
+    if np.isclose(zeta, 1.0, rtol=1e-12, atol=0.0):
+        b = v0 + omega * x0
+        if velocity:
+            return (b - omega * (x0 + b * t)) * np.exp(-omega * t)
+        return (x0 + b * t) * np.exp(-omega * t)
+    root = np.sqrt(complex(zeta**2 - 1.0))
+    r1, r2 = omega * (-zeta + root), omega * (-zeta - root)
+    a = (v0 - r2 * x0) / (r1 - r2)
+    if velocity:
+        return np.real(a * r1 * np.exp(r1 * t) + (x0 - a) * r2 * np.exp(r2 * t))
+    return np.real(a * np.exp(r1 * t) + (x0 - a) * np.exp(r2 * t))
+
+
+def bisect_stable_dt(is_stable, lo: float, hi: float, rtol: float = 1e-5) -> float:
+    """Largest ``dt`` in ``[lo, hi]`` for which ``is_stable(dt)`` holds, by bisection.
+
+    ``is_stable(lo)`` must be true and ``is_stable(hi)`` false (checked). Returns the
+    stable end of the final bracket, whose width is below ``rtol * lo``.
+    """
+    if not is_stable(lo):
+        raise ValueError(f"the run is already unstable at the lower bracket dt = {lo:g}")
+    if is_stable(hi):
+        raise ValueError(f"the run is still stable at the upper bracket dt = {hi:g}")
+    while hi - lo > rtol * lo:
+        mid = 0.5 * (lo + hi)
+        if is_stable(mid):
+            lo = mid
+        else:
+            hi = mid
+    return float(lo)
+
+
+def anchored_spring(k: float, m: float = 1.0, c: float = 0.0, rest: float = 1.0, stretch: float = 0.1):
+    """A mass ``m`` on a damped spring tied to a fixed anchor, in 3D.
+
+    The anchor is particle 0 (pinned, at the origin); the mass is particle 1, released at
+    rest at ``(rest + stretch, 0, 0)``. Along the spring this is the 1D oscillator
+    ``m x'' = -k x - c x'`` for the stretch ``x``.
+
+    Returns
+    -------
+    system : NewtonianSystem
+    y0 : ndarray, shape (2, 2, 3)
+    network : SpringNetwork
+    """
+    from .systems import NewtonianSystem, stack_state
+
+    net = SpringNetwork([1], [0], [rest], [k], [c], 2, np.array(["spring"]))
+    x0 = np.array([[0.0, 0.0, 0.0], [rest + stretch, 0.0, 0.0]])
+    return NewtonianSystem(net.force, m, pinned=[0]), stack_state(x0, np.zeros_like(x0)), net
+
+
+def spring_dt_max(k: float, m: float = 1.0, method: str = "symplectic_euler",
+                  n_steps: int = 1000, rtol: float = 1e-4) -> float:
+    """Largest stable step (s) for a mass on a spring, measured: bisection on the verdict
+    of :func:`~course_lib.integrators.integrate` over ``n_steps`` steps.
+
+    The spring (rest length 1 m) starts stretched by 1 nm; a run whose state grows past
+    1.5 (m or m/s), i.e. a stretch of 0.5 m or a speed of 1.5 m/s, is declared unstable.
+    That is a growth by more than 10⁸, caught while the motion is still linear (the mass
+    never reaches the anchor).
+    """
+    from .integrators import integrate
+
+    system, y0, _ = anchored_spring(k, m, stretch=1e-9)
+    scale = np.sqrt(m / k)
+
+    def stable(dt):
+        return integrate(system, y0, (0.0, n_steps * dt), dt, method=method,
+                         blowup_bound=1.5).stable
+
+    return bisect_stable_dt(stable, 0.5 * scale, 3.0 * scale, rtol)
+
+
+# --- a mass on a spring: the pure computation behind the notebook 07 widget --------------
+
+
+@dataclass
+class SpringRun:
+    """Result of :func:`run_spring`: one mass on a damped spring, numerical and exact."""
+
+    t: np.ndarray
+    x: np.ndarray          # stretch (m); NaN after a blow-up
+    exact: np.ndarray      # exact stretch (m)
+    energy: np.ndarray     # kinetic + elastic energy (J)
+    exact_energy: np.ndarray
+    stable: bool
+    message: str
+    dt_limit: float        # undamped stability limit of the method (s)
+    params: dict
+    t_fine: np.ndarray     # a fine time grid for drawing the exact solution
+    exact_fine: np.ndarray
+
+
+def run_spring(k: float = 10.0, c: float = 0.0, dt: float = 0.05,
+               method: str = "symplectic_euler", m: float = 1.0, t_end: float = 20.0,
+               stretch: float = 0.1) -> SpringRun:
+    """Integrate a mass ``m`` on a spring ``k`` with damping ``c`` along it (3D, anchored),
+    and return its stretch and energy beside the exact solution and the verdict."""
+    from .integrators import integrate
+    from .stability import max_stable_dt
+    from .systems import split_state
+
+    system, y0, net = anchored_spring(k, m, c, 1.0, stretch)
+    traj = integrate(system, y0, (0.0, t_end), dt, method=method, blowup_bound=1e3)
+    x, v = split_state(traj.y)
+    s = net.lengths(x)[:, 0] - 1.0
+    energy = 0.5 * m * np.sum(v[:, 1] ** 2, axis=-1) + 0.5 * k * s**2
+    exact = damped_oscillator(traj.t, k, m, c, stretch)
+    omega = np.sqrt(k / m)
+    exact_v = damped_oscillator(traj.t, k, m, c, stretch, velocity=True)
+    exact_energy = 0.5 * m * exact_v**2 + 0.5 * k * exact**2
+    t_fine = np.linspace(0.0, traj.t[-1], 2001)
+    return SpringRun(traj.t, s, exact, energy, exact_energy, traj.stable, traj.message,
+                     max_stable_dt(method, 1j * omega), dict(k=k, c=c, dt=dt, method=method, m=m),
+                     t_fine, damped_oscillator(t_fine, k, m, c, stretch))
+
+
+def draw_spring_run(run: SpringRun):
+    """Stretch and energy of a :class:`SpringRun` beside the exact answer (a Figure)."""
+    import matplotlib.pyplot as plt
+
+    from .plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS
+
+    p = run.params
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9, 3.4))
+    color = METHOD_COLORS[p["method"]]
+    a = float(np.abs(run.exact[0]))
+    ax1.plot(run.t_fine, run.exact_fine, **EXACT_STYLE, label="exact")
+    ax1.plot(run.t, run.x, ".-", ms=3, color=color, label=METHOD_LABELS[p["method"]])
+    ax1.set_ylim(-4 * a, 4 * a)
+    ax1.set(xlabel="t (s)", ylabel="stretch (m)")
+    ax1.legend(loc="upper right", fontsize=8, frameon=True, framealpha=0.9)
+    ax2.semilogy(run.t, np.maximum(run.exact_energy, 1e-12), **EXACT_STYLE, label="exact")
+    ax2.semilogy(run.t, run.energy, color=color, label=METHOD_LABELS[p["method"]])
+    ax2.set_ylim(1e-6 * run.exact_energy[0], 1e3 * run.exact_energy[0])
+    ax2.set(xlabel="t (s)", ylabel="energy (J)")
+    ax2.legend(loc="lower left", fontsize=8, frameon=True, framealpha=0.9)
+    verdict = "stable" if run.stable else "BLOWN UP: " + run.message
+    fig.suptitle(f"k = {p['k']:.3g} N/m, c = {p['c']:.3g} N s/m, dt = {p['dt']:.3g} s "
+                 f"(limit {run.dt_limit:.3g} s): {verdict}", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def spring_explorer(k: float = 10.0, c: float = 0.0, dt: float = 0.05,
+                    method: str = "symplectic_euler"):
+    """An :class:`~course_lib.widgets.ExplorerView` over :func:`run_spring`:
+    sliders for ``k``, ``c``, ``dt`` and a method menu."""
+    import ipywidgets as w
+
+    from .integrators import METHODS
+    from .widgets import ExplorerView, log_slider
+
+    controls = {
+        "k": log_slider("k (N/m)", k, 1.0, 1e3),
+        "c": w.FloatSlider(value=c, min=0.0, max=20.0, step=0.1, description="c (N s/m)",
+                           continuous_update=False),
+        "dt": log_slider("dt (s)", dt, 1e-3, 1.0),
+        "method": w.Dropdown(options=list(METHODS), value=method, description="method"),
+    }
+    return ExplorerView(run_spring, draw_spring_run, controls)
+
+
+def settling_time(t, x, tol: float = 0.01) -> float:
+    """First time (s) after which ``|x|`` stays below ``tol · |x[0]|`` for good."""
+    t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
+    outside = np.nonzero(np.abs(x) > tol * abs(x[0]))[0]
+    if outside.size == 0:
+        return float(t[0])
+    if outside[-1] + 1 >= t.size:
+        return float("inf")
+    return float(t[outside[-1] + 1])
