@@ -17,42 +17,45 @@ def _cases():
     falling = newtonian(sum_forces(forces.constant_gravity(np.array([1.0, 2.0]), g=[0.0, -9.81]),
                                    forces.drag(b=0.3)), mass=np.array([1.0, 2.0]))
     y_fall = stack_state(rng.normal(size=(2, 2)), rng.normal(size=(2, 2)))
-    return [("oscillator x'' = -4x, y = (1, 0.5), dt = 0.1", osc, np.array([1.0, 0.5]), 0.1),
-            ("two particles under gravity and drag, dt = 0.05", falling, y_fall, 0.05)]
+    return [("oscillator x'' = -4x, y = (1, 0.5), dt = 0.1", osc, 0.0, np.array([1.0, 0.5]), 0.1),
+            ("two particles under gravity and drag, dt = 0.05", falling, 0.0, y_fall, 0.05)]
 
 
 @exercise
 def symplectic_euler_step(ck: Checker, step) -> None:
     """``step(f, t, y, dt)``: new velocity first, then the position with it."""
-    for what, f, y, dt in _cases():
-        got = step(f, 0.0, y.copy(), dt)
+    def mistakes(f, t, y, dt):
         x, v = y[0], y[1]
-        a = f(0.0, y)[1]
-        fe = np.stack((x + dt * v, v + dt * a))
+        a = f(t, y)[1]
         x_first = x + dt * v
-        other = np.stack((x_first, v + dt * f(0.0, np.stack((x_first, v)))[1]))
-        ck.close(got, symplectic_euler(f, 0.0, y, dt), what, mistakes={
-            "this is forward Euler: move x with the NEW velocity v + dt a, not the old one": fe,
+        return {
+            "this is forward Euler: move x with the NEW velocity v + dt a, not the old one":
+                np.stack((x + dt * v, v + dt * a)),
             "that is the other symplectic Euler (x first, then v from the new x); "
-            "here update v first": other,
-        }, hint="v_new = v + dt a(t, x, v); x_new = x + dt v_new; return np.stack((x_new, v_new))")
+            "here update v first": np.stack((x_first, v + dt * f(t, np.stack((x_first, v)))[1])),
+        }
+
+    ck.one_step_cases(step, _cases(), symplectic_euler, mistakes, hint=(
+        "v_new = v + dt a(t, x, v); x_new = x + dt v_new; return np.stack((x_new, v_new))"))
 
 
 @exercise
 def velocity_verlet_step(ck: Checker, step) -> None:
     """``step(f, t, y, dt)``: half kick, drift, half kick with the force at the new position."""
-    for what, f, y, dt in _cases():
-        got = step(f, 0.0, y.copy(), dt)
+    def mistakes(f, t, y, dt):
         x, v = y[0], y[1]
-        a = f(0.0, y)[1]
-        stale = np.stack((x + dt * v + 0.5 * dt**2 * a, v + dt * a))
-        no_half = np.stack((x + dt * v + dt**2 * a, v + dt * a))
-        ck.close(got, velocity_verlet(f, 0.0, y, dt), what, mistakes={
+        a = f(t, y)[1]
+        return {
             "the second half kick must use the acceleration at the NEW position "
-            "f(t + dt, (x_new, v_half))[1], not the old one": stale,
-            "use half kicks: v_half = v + dt/2 a, then x_new = x + dt v_half": no_half,
-        }, hint="v_half = v + dt/2 a; x_new = x + dt v_half; "
-                "v_new = v_half + dt/2 f(t + dt, (x_new, v_half))[1]")
+            "f(t + dt, (x_new, v_half))[1], not the old one":
+                np.stack((x + dt * v + 0.5 * dt**2 * a, v + dt * a)),
+            "use half kicks: v_half = v + dt/2 a, then x_new = x + dt v_half":
+                np.stack((x + dt * v + dt**2 * a, v + dt * a)),
+        }
+
+    ck.one_step_cases(step, _cases(), velocity_verlet, mistakes, hint=(
+        "v_half = v + dt/2 a; x_new = x + dt v_half; "
+        "v_new = v_half + dt/2 f(t + dt, (x_new, v_half))[1]"))
 
 
 @exercise
