@@ -113,6 +113,7 @@ def execute_notebook(path: Path, timeout: int = 300) -> None:
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
     client = NotebookClient(
         nb, timeout=timeout, kernel_name="python3", record_timing=False,
+        extra_arguments=["--log-level=ERROR"],
         resources={"metadata": {"path": str(path.parent)}},
     )
     client.execute()
