@@ -316,7 +316,7 @@ def head_collision(center=(0.0, 0.0, 0.0), radius: float = 0.1, pinned=()):
 
 
 def animate(frames, network: SpringNetwork, *, head=None, size: float = 4.0,
-            xlim=(-0.35, 0.35), ylim=(-0.45, 0.25), fps: float = FPS, title: str = ""):
+            xlim=(-0.35, 0.35), ylim=(-0.45, 0.42), fps: float = FPS, title: str = ""):
     """A ``FuncAnimation`` of strands seen from the front (x-y), one line per strand
     (springs of kind ``"edge"``), with an optional head ``(center, radius)``."""
     import matplotlib.pyplot as plt
