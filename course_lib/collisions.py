@@ -64,7 +64,8 @@ def sphere(center=(0.0, 0.0, 0.0), radius: float = 1.0, restitution: float = 0.0
         x, v = y[0], y[1]
         r = x - c
         dist = np.linalg.norm(r, axis=1)
-        hit = dist < radius
+        # A particle resting exactly on the surface must not be nudged by round-off.
+        hit = dist < radius * (1.0 - 1e-12)
         if not hit.any():
             return y
         normals = r / np.maximum(dist, 1e-12)[:, None]

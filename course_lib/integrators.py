@@ -25,7 +25,7 @@ first axis, ``y = (x, v)`` with ``dx/dt = v`` (see :mod:`course_lib.systems`).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -275,7 +275,6 @@ class Trajectory:
     status: str = "ok"
     blowup_step: int | None = None
     message: str = "ok"
-    extras: dict = field(default_factory=dict)
 
     @property
     def stable(self) -> bool:

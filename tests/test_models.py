@@ -128,3 +128,26 @@ def test_free_fall_is_exact_for_verlet():
     y0 = stack_state([[0.0, 10.0, 0.0]], [[0.0, 0.0, 0.0]])
     traj = cl.integrate(system, y0, (0.0, 1.0), 0.1, "velocity_verlet")
     np.testing.assert_allclose(traj.y[:, 0, 0, 1], 10.0 - 0.5 * 9.81 * traj.t**2, rtol=1e-13)
+
+
+def test_sphere_collision_projects_out_and_removes_inward_velocity():
+    from course_lib import collisions
+
+    post = collisions.sphere(center=(0.0, 0.0, 0.0), radius=1.0)
+    x = np.array([[0.5, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]])
+    v = np.array([[-1.0, 2.0, 0.0], [0.0, -3.0, 0.0], [0.0, 0.0, -1.0]])
+    y = post(0.0, stack_state(x, v))
+    np.testing.assert_allclose(y[0, 0], [1.0, 0.0, 0.0])      # projected to the surface
+    np.testing.assert_allclose(y[1, 0], [0.0, 2.0, 0.0])      # only the tangential part stays
+    np.testing.assert_array_equal(y[0, 1], x[1])              # on the surface: untouched
+    np.testing.assert_array_equal(y[1, 1], v[1])
+    np.testing.assert_array_equal(y[:, 2], np.stack((x[2], v[2])))  # outside: untouched
+
+
+def test_ground_plane_bounce_keeps_restitution_fraction():
+    from course_lib import collisions
+
+    post = collisions.plane(restitution=0.8)
+    y = post(0.0, stack_state([[0.3, -0.01, 0.0]], [[1.0, -5.0, 0.0]]))
+    np.testing.assert_allclose(y[0, 0], [0.3, 0.0, 0.0])
+    np.testing.assert_allclose(y[1, 0], [1.0, 4.0, 0.0])
