@@ -92,8 +92,9 @@ def max_stable_dt(method: str, lam: complex, dt_max: float = 1e3) -> float:
     Returns
     -------
     float
-        The stability limit (s), to about 1e-13 relative. ``0.0`` if even the smallest steps are unstable (forward
-        Euler on an undamped oscillator: ``|1 + iω dt| > 1`` for every ``dt > 0``).
+        The stability limit (s), to about 1e-13 relative. ``0.0`` if even the smallest
+        steps are unstable (forward Euler on an undamped oscillator:
+        ``|1 + iω dt| > 1`` for every ``dt > 0``).
 
     Examples
     --------
