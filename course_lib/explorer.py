@@ -46,6 +46,9 @@ _UNLIMITED = 1e3
 #: A run counts as blown up once its size exceeds this many times the largest size any
 #: stable run of the same method could reach (see :func:`blowup_bound`).
 GROWTH_FACTOR = 2.0
+#: An unstable run is drawn on until its size passes this multiple of the blow-up bound,
+#: so the student sees it leave the axes rather than stop at the marker.
+DISPLAY_FACTOR = 20.0
 
 
 @dataclass
@@ -320,8 +323,12 @@ def run_experiment(
     past[0] = False
     blowup_step = int(np.argmax(past)) if past.any() else None
     if blowup_step is not None:
-        y = y.copy()
-        y[blowup_step + 1:] = np.nan
+        with np.errstate(invalid="ignore"):
+            far = state_size(problem, rate, y) > DISPLAY_FACTOR * bound
+        far[: blowup_step + 1] = False
+        if far.any():
+            y = y.copy()
+            y[int(np.argmax(far)) + 1:] = np.nan
 
     if stable:
         verdict = f"stable: |R(z)| = {_fmt_factor(abs_R)} ≤ 1"
@@ -483,7 +490,9 @@ class ExperimentPlot:
             self.num_line.set_color(color)
             self.num_line.set_label(f"{name}, dt = {r.dt:.3g} s")
             handles.append(self.num_line)
-            finite = r.x[np.isfinite(r.x)]
+            # Scale to the run up to the blow-up marker: what grows beyond it leaves the axes.
+            shown = r.x if r.blowup_step is None else r.x[: r.blowup_step + 1]
+            finite = shown[np.isfinite(shown)]
             top = max(top, float(np.max(np.abs(finite))))
             self.na_text.set_text("")
         else:

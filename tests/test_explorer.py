@@ -43,8 +43,8 @@ def test_forward_euler_decay_flips_between_1_9_and_2_1(view):
     # observed: |x_n| = 1.1^n passes the bound 2 at n = 8 (1.1^7 = 1.95, 1.1^8 = 2.14)
     assert r.blowup_step == 8
     assert "unstable" in r.verdict and "blew up at step 8" in r.verdict
-    assert np.allclose(r.x[:9], (-1.1) ** np.arange(9))
-    assert np.all(np.isnan(r.x[9:]))
+    # the run is drawn on past the marker (it grows by -1.1 per step over the whole window)
+    assert np.allclose(r.x, (-1.1) ** np.arange(r.t.size))
     # the view really drew the figure (off-screen, with Agg)
     assert type(view.figure.canvas).__name__ == "FigureCanvasAgg"
     height, width = np.asarray(view.figure.canvas.buffer_rgba()).shape[:2]
@@ -157,3 +157,10 @@ def test_bad_choices_raise():
         ex.run_experiment("decay", "euler")
     with pytest.raises(ValueError, match="dt"):
         ex.run_experiment("decay", "rk4", dt=-1.0)
+
+
+def test_fast_blowup_is_drawn_until_far_past_the_bound():
+    r = ex.run_experiment("decay", "forward_euler", dt=10.0, rate=1.0, t_end=100.0)
+    assert not r.stable and r.blowup_step == 1          # |R| = 9: past 2 after one step
+    assert np.allclose(r.x[:3], [1.0, -9.0, 81.0])      # 81 > 20 * 2: the last point drawn
+    assert np.all(np.isnan(r.x[3:]))
