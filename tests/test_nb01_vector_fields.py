@@ -151,6 +151,24 @@ def test_whirlpool_run_numbers():
     assert f"{error.max():.3f}" == "0.019"
 
 
+def test_animation_frames_every_22nd_step():
+    # "30 frames, about every 22nd step" of the 628-step run.
+    frames = np.linspace(0, 628, 30).round().astype(int)
+    assert len(frames) == 30 and frames[0] == 0 and frames[-1] == 628
+    assert set(np.diff(frames)) <= {21, 22}
+    assert round(628 / 29) == 22
+
+
+def test_whirlpool_ratio_matches_second_order_expansion():
+    # Per step, log of (Euler factor / exact factor) = (1 - k^2) dt^2 / 2 + O(dt^3), so over
+    # T = 6.28 s the ratio is about exp((1 - k^2) T dt / 2): "about 3 %".
+    traj, exact = _whirl_run()
+    ratio = np.linalg.norm(traj.y[-1, 0]) / np.linalg.norm(exact[0])
+    approx = math.exp((1 - K**2) * traj.t[-1] * DT / 2)
+    assert ratio == pytest.approx(approx, rel=3e-4)
+    assert round(100 * (ratio - 1)) == 3
+
+
 # --- Section 6 and exercise 5: drift of forward Euler on the vortex -----------------------
 
 

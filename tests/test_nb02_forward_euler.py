@@ -121,6 +121,22 @@ def test_observed_order_is_one():
     assert errors[-1] == pytest.approx(2.4e-3, abs=0.05e-3)
 
 
+def test_convergence_errors_match_the_closed_form():
+    # N steps of I + dt J from (1, 0) give (1 + i dt)^N in complex notation; the exact end
+    # point is e^{i pi} = -1. So every plotted error has a closed form.
+    dts, errors = vortex_convergence()
+    n = np.round(np.pi / dts)
+    theory = np.abs((1 + dts**2) ** (n / 2) * np.exp(1j * n * np.arctan(dts)) + 1)
+    np.testing.assert_allclose(errors, theory, rtol=1e-9)
+    # the halving orders printed by the notebook
+    halvings = np.log2(theory[:-1] / theory[1:])
+    np.testing.assert_array_equal(np.round(halvings, 3),
+                                  [1.1, 1.053, 1.027, 1.014, 1.007, 1.003, 1.002])
+    # the last error is mostly radius drift, e^{pi dt / 2} - 1 at T = pi
+    assert errors[-1] == pytest.approx(math.expm1(math.pi * dts[-1] / 2), rel=2e-3)
+    assert f"{errors[-1]:.1e}" == "2.4e-03"
+
+
 # --- Exercise 3: the 1 % drift step ----------------------------------------------------------
 
 

@@ -20,6 +20,7 @@ def test_net_force_is_the_sum():
     F = net(0.0, x, v)
     assert F.shape == (5, 2)
     assert np.allclose(F, mass[:, None] * [0.0, -G] - 0.4 * (v - [2.0, 0.0]))
+    assert np.allclose(np.round(F[0], 4), [0.512, -10.0159])            # printed
 
 
 def test_two_body_period():
@@ -35,6 +36,19 @@ def test_two_body_period():
     # total momentum stays zero, centre of mass at rest at the origin
     com = np.einsum("k,nkd->nd", masses, orbit.y[:, 0]) / masses.sum()
     assert np.abs(com).max() < 1e-12
+    assert round(T, 6) == 6.252003 and round(T_meas, 6) == 6.252024    # printed
+    assert f"{abs(T_meas / T - 1):.1e}" == "3.3e-06"
+
+
+def test_two_body_period_error_is_second_order():
+    masses, y0, T = demos.two_body_circular(M=1.0, m=0.01, r=1.0, G=1.0)
+    system = cl.newtonian(cl.forces.nbody_gravity(masses, G=1.0), masses)
+    errs = []
+    for steps in (1000, 2000):
+        orbit = cl.integrate(system, y0, (0.0, 5 * T), T / steps, "velocity_verlet")
+        sep = orbit.y[:, 0, 1] - orbit.y[:, 0, 0]
+        errs.append(abs(events.measured_period(orbit.t, sep[:, 1]) / T - 1))
+    assert errs[0] / errs[1] == pytest.approx(4.0, rel=0.01)           # shrinks like dt²
 
 
 def test_cluster_conservation():
@@ -53,6 +67,11 @@ def test_cluster_conservation():
     assert 1e-9 < out["rk4"][1] < 1e-5
     assert out["rk4"][0] < out["velocity_verlet"][0] < out["symplectic_euler"][0] < 0.1
     assert out["symplectic_euler"][0] < out["forward_euler"][0]
+    printed = {m: (f"{dE:.0e}", f"{dL:.0e}") for m, (dE, dL) in out.items()}
+    assert printed["forward_euler"] == ("1e+00", "3e-02")
+    assert printed["symplectic_euler"][0] == "4e-02"
+    assert printed["velocity_verlet"][0] == "5e-03"
+    assert printed["rk4"] == ("2e-04", "2e-07")
 
 
 def test_terminal_velocity_and_euler_closed_form():
@@ -71,6 +90,37 @@ def test_terminal_velocity_and_euler_closed_form():
     assert round(-19.62 * (1 - np.exp(-6)), 4) == -19.5714
     # forward Euler's factor (1 - b dt/m) must have modulus < 1: b dt / m < 2
     assert abs(1 - b * 3.9 / m) < 1 < abs(1 - b * 4.1 / m)
+    assert b * dt / m == 0.125
+
+
+def test_drag_printed_errors_and_verlet_order():
+    m, b, dt = 1.0, 0.5, 0.25
+    faller = cl.newtonian(cl.systems.sum_forces(cl.forces.constant_gravity(m, g=[0.0, -G]),
+                                                cl.forces.drag(b=b)), m)
+    start = cl.stack_state([[0.0, 0.0]], [[0.0, 0.0]])
+
+    def run(meth, step):
+        tr = cl.integrate(faller, start, (0.0, 12.0), step, meth)
+        v = tr.y[:, 1, 0, 1]
+        return tr, v[-1], np.abs(v + 19.62 * (1 - np.exp(-b * tr.t / m))).max()
+
+    printed = {}
+    for meth in ("forward_euler", "velocity_verlet", "rk4"):
+        _, v_end, err = run(meth, dt)
+        printed[meth] = (round(v_end, 4), f"{err:.1e}")
+    assert printed == {"forward_euler": (-19.5877, "4.8e-01"),
+                       "velocity_verlet": (-19.58, "2.3e-01"),
+                       "rk4": (-19.5714, "1.6e-05")}
+    # Verlet's two half kicks are two forward Euler steps of dt/2 when F depends on v only
+    vv, _, err_vv = run("velocity_verlet", dt)
+    fe_half, _, err_fe_half = run("forward_euler", dt / 2)
+    assert np.allclose(vv.y[:, 1], fe_half.y[::2, 1], rtol=0, atol=1e-12)
+    # so both are first order: halving dt halves the error; Verlet is "twice as good"
+    _, _, err_fe = run("forward_euler", dt)
+    assert err_fe / err_fe_half == pytest.approx(2.0, rel=0.05)
+    assert err_fe / err_vv == pytest.approx(2.0, rel=0.05)
+    _, _, err_vv_half = run("velocity_verlet", dt / 2)
+    assert err_vv / err_vv_half == pytest.approx(2.0, rel=0.05)
 
 
 def test_wind_exact_solution():
@@ -83,6 +133,11 @@ def test_wind_exact_solution():
         x, v = demos.linear_drag_exact(t, [0, 0], [5, 5], 1.0, 0.5, wind=[w, 0.0])
         assert np.allclose(tr.y[:, 0, 0], x, atol=1e-6)
         assert np.allclose(tr.y[:, 1, 0], v, atol=1e-6)
+    # head wind -4 m/s: horizontal velocity -4 + 9 e^{-t/2} changes sign at 2 ln(9/4) s
+    t_turn = 2 * np.log(9 / 4)
+    assert round(t_turn, 2) == 1.62
+    _, v_turn = demos.linear_drag_exact([t_turn], [0, 0], [5, 5], 1.0, 0.5, wind=[-4.0, 0.0])
+    assert v_turn[0, 0] == pytest.approx(0.0, abs=1e-12)
 
 
 def test_damping_glide_distance():
@@ -119,7 +174,9 @@ def test_bouncing_ball_ratios():
     t, h, _ = demos.bouncing_ball(h0=1.0, restitution=e, dt=0.01, t_end=3.0, locate=False)
     _, peaks = events.local_maxima(t, h)
     ratios = peaks[:4] / np.r_[1.0, peaks[:3]]
-    assert np.all((ratios > 0.65) & (ratios < 0.675))      # "about 0.65-0.67"
+    assert np.all((ratios > 0.65) & (ratios < 0.68))       # "between 0.65 and 0.68"
+    assert np.allclose(np.round(peaks[:4], 4), [0.6643, 0.4344, 0.2871, 0.1932])   # printed
+    assert np.allclose(np.round(ratios, 4), [0.6643, 0.654, 0.6608, 0.673])
     assert np.ptp(ratios) > 0.01                            # scatters bounce to bounce
 
 
@@ -141,6 +198,8 @@ def test_helix():
     assert np.interp(T, tr.t, tr.y[:, 0, 0, 2]) == pytest.approx(0.3 * np.pi, rel=1e-6)
     assert round(0.3 * np.pi, 3) == 0.942
     assert round(np.pi / 0.01) == 314                                    # steps per turn
+    assert 1.0 * 2.0 / 1.0 == 2.0 and 2 * np.pi / 2.0 == np.pi           # omega_c, period
+    assert 3 < 10.0 / np.pi < 3.5                                        # "three turns"
     speed = np.linalg.norm(tr.y[:, 1, 0], axis=1)
     assert np.allclose(speed, np.hypot(1.0, 0.3), rtol=1e-8)
     fe = demos.charged_particle(1.0, 1.0, (0.0, 0.0, 2.0), (1.0, 0.0, 0.3), dt=0.01, t_end=1.0,
