@@ -20,6 +20,9 @@ velocity_verlet     2      2            half kick, drift, half kick
 
 ``symplectic_euler`` and ``velocity_verlet`` need a Newtonian state stacked along the
 first axis, ``y = (x, v)`` with ``dx/dt = v`` (see :mod:`course_lib.systems`).
+Velocity Verlet is second order for forces that depend on position (and time); a
+velocity-dependent force (drag, damping) is evaluated at the half-step velocity, which makes
+that part first order (notebook 06 measures it).
 """
 
 from __future__ import annotations
