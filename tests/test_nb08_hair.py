@@ -14,11 +14,18 @@ M, K = H.MASS, H.STRAND["k_edge"]
 def test_strand_setup_and_swing():
     x0, net = S.hair_chain(**H.STRAND)
     assert net.n_springs == 15 and net.rest[0] == pytest.approx(0.02)
+    assert M * H.STRAND["n"] * 1e3 == pytest.approx(1.6)             # total mass 1.6 g
     swing = H.simulate(x0, net, frames=40, substeps=160)
     assert swing.dt == pytest.approx(1 / 4800) and swing.stable
     assert swing.frames.shape == (41, 16, 3)
     assert np.all(swing.x[:, 0] == x0[0])                      # the root stays pinned
     assert H.max_strain(swing, net) == pytest.approx(0.0229, abs=5e-5)
+    # the largest stretch comes from the whip near t = 1.3 s, about 60x the hanging 0.04%
+    per_step = np.max(np.abs(net.strain(swing.x)), axis=1)
+    assert np.argmax(per_step) * swing.dt == pytest.approx(1.3, abs=0.05)
+    assert round(per_step.max() / (15 * M * 9.81 / (K * 0.02)), -1) == 60
+    # over the first 12 frames (0.4 s) the same strand stretches by only 0.17%
+    assert per_step[: 12 * 160 + 1].max() * 100 == pytest.approx(0.17, abs=0.005)
 
 
 @pytest.mark.parametrize(("k_bend", "zigzag", "sag_cm"), [
@@ -38,6 +45,9 @@ def test_spring_families():
     _, net3 = S.hair_chain(**H.STRAND, k_bend=2000.0, k_twist=500.0)
     counts = {k: net3.select(k).n_springs for k in ("edge", "bend", "twist")}
     assert counts == {"edge": 15, "bend": 14, "twist": 13}
+    ends = {k: ((int(net3.select(k).i[0]), int(net3.select(k).j[0])),
+                (int(net3.select(k).i[-1]), int(net3.select(k).j[-1]))) for k in counts}
+    assert ends == {"edge": ((0, 1), (14, 15)), "bend": ((0, 2), (13, 15)), "twist": ((0, 3), (12, 15))}
 
 
 def test_chain_step_limit():
@@ -49,6 +59,7 @@ def test_chain_step_limit():
     assert w == pytest.approx(8898.38, abs=0.005)
     assert 2e3 / w == pytest.approx(0.22476, abs=5e-6)
     measured = H.chain_dt_max(net, x0)
+    assert measured * 1e3 == pytest.approx(0.22475, abs=5e-6)
     assert measured * w / 2 == pytest.approx(0.99996, abs=5e-6)       # "to 0.004%"
     assert measured == pytest.approx(2 / w, rel=1e-2)
     assert measured / sqrt_mk == pytest.approx(1.0051, abs=5e-5)       # "0.5% above sqrt(m/k)"
@@ -56,11 +67,27 @@ def test_chain_step_limit():
     assert int(np.ceil((1 / 30) / measured)) == 149
 
 
+@pytest.mark.parametrize(("zigzag", "omega", "limit_ms", "measured_ms", "over_sqrt"), [
+    (0.0, 11044.26, 0.18109, 0.18108, 0.8098), (0.3, 10901.17, 0.18347, 0.18346, 0.8205)])
+def test_bending_springs_table(zigzag, omega, limit_ms, measured_ms, over_sqrt):
+    x, net = S.hair_chain(**H.STRAND, k_bend=2000.0, zigzag=zigzag)
+    w = S.max_frequency(net, x, M, pinned=[0])
+    assert w == pytest.approx(omega, abs=0.005)
+    assert 2e3 / w == pytest.approx(limit_ms, abs=5e-6)
+    measured = H.chain_dt_max(net, x)
+    assert measured * 1e3 == pytest.approx(measured_ms, abs=5e-6)
+    assert measured * w / 2 == pytest.approx(0.99996, abs=5e-6)
+    assert measured / np.sqrt(M / K) == pytest.approx(over_sqrt, abs=5e-5)
+
+
 def test_bending_springs_lower_the_limit():
     xb, netb = S.hair_chain(**H.STRAND, k_bend=2000.0)
     w = S.max_frequency(netb, xb, M, pinned=[0])
     assert (2 / w) / np.sqrt(M / K) == pytest.approx(0.81, abs=5e-4)
     assert int(np.ceil((1 / 30) / (2 / w))) == 185
+    # a straight chain at rest has no stiffness across its axis: the modes are along it
+    Kmat = S.stiffness_matrix(netb, xb).reshape(16, 3, 16, 3)
+    assert np.all(Kmat[:, 1:, :, :] == 0) and np.all(Kmat[:, :, :, 1:] == 0)
     xz, netz = S.hair_chain(**H.STRAND, k_bend=2000.0, zigzag=0.3)
     assert 2e3 / S.max_frequency(netz, xz, M, pinned=[0]) == pytest.approx(0.18347, abs=5e-6)
     # the held strand (two particles pinned) of the widget: limit 0.184 ms
@@ -71,30 +98,37 @@ def test_strain_against_substeps():
     budgets = [10, 20, 40, 80, 160]
     strains = np.array(H.max_strain_vs_substeps(budgets))
     assert H.stiffest_edge(10) == pytest.approx(4.5) and H.stiffest_edge(160) == pytest.approx(1152.0)
-    assert strains[0] == pytest.approx(0.6234, abs=5e-5)
-    assert strains[-1] == pytest.approx(0.00303, abs=5e-6)
+    assert [H.stiffest_edge(S_) for S_ in budgets] == pytest.approx([4.5, 18.0, 72.0, 288.0, 1152.0])
+    assert strains == pytest.approx([0.62341, 0.18409, 0.05122, 0.01284, 0.00303], abs=5e-6)
     ratios = strains[:-1] / strains[1:]
     assert np.all(np.diff(strains) < 0)
-    assert ratios.min() == pytest.approx(3.39, abs=0.005) and ratios.max() == pytest.approx(4.23, abs=0.005)
+    assert ratios == pytest.approx([3.39, 3.59, 3.99, 4.23], abs=0.005)
 
 
 def test_damping_calms_the_strand():
     eq = None
     spans = {}
-    for c in (0.0, 2e-3):
+    for c in (0.0, 2e-3, 1e-2):
         run = H.run_held_strand(k_bend=2000.0, damping=c, dt=1e-4, t_end=0.5)
         assert run.stable
         late = run.tip_y[run.params["t"] > 0.4]
         spans[c] = (late.min(), late.max())
         eq = run.equilibrium[-1, 1]
     assert eq * 100 == pytest.approx(-2.71, abs=0.005)
-    assert spans[0.0][0] * 100 == pytest.approx(-6.11, abs=0.005)
-    assert abs(spans[2e-3][0] - eq) < 1e-3 and abs(spans[2e-3][1] - eq) < 1e-3     # settled
+    assert eq == pytest.approx(H.held_strand(2000.0, 0.3)[0][-1, 1] - H.tip_sag(2000.0, 0.3), abs=1e-12)
+    printed = {0.0: (-6.11, -4.07), 2e-3: (-2.73, -2.65), 1e-2: (-2.35, -2.15)}
+    for c, (lo, hi) in printed.items():
+        assert spans[c][0] * 100 == pytest.approx(lo, abs=0.005)
+        assert spans[c][1] * 100 == pytest.approx(hi, abs=0.005)
+    # c = 2e-3 kg/s: settled, within 0.6 mm of the equilibrium over 0.4-0.5 s
+    assert round(max(abs(spans[2e-3][0] - eq), abs(spans[2e-3][1] - eq)) * 1e3, 1) == 0.6
+    # c = 1e-2 kg/s: over-damped, still 0.4 to 0.6 cm above the equilibrium
+    assert round((spans[1e-2][0] - eq) * 100, 1) == 0.4 and round((spans[1e-2][1] - eq) * 100, 1) == 0.6
 
 
 def test_widget_blowup_state():
     run = H.run_held_strand(k_bend=2000.0, damping=2e-3, dt=1.9e-4, t_end=0.5)
-    assert not run.stable and "step 32" in run.message
+    assert not run.stable and "step 32" in run.message and "t = 0.00608" in run.message
 
 
 def test_held_strand_explorer_view():
@@ -117,6 +151,7 @@ def test_hairstyle_one_network_and_head_collision():
     assert np.allclose(net.strain(xs), 0.0) and np.allclose(net.forces(xs), 0.0, atol=1e-9)
     w = S.max_frequency(net, xs, M, pinned=roots)
     assert 2e3 / w == pytest.approx(0.2244, abs=5e-5)
+    assert 1e3 / (30 * 180) == pytest.approx(0.1852, abs=5e-5) and 1 / (30 * 180) < 2 / w
     style = H.simulate(xs, net, frames=45, substeps=180, pinned=roots, damping=2e-3,
                        post_step=H.head_collision(center, R, pinned=roots))
     assert style.stable
