@@ -221,3 +221,43 @@ def test_classification_reference_matches_is_stable():
     assert abs(cl.amplification_factor("trapezoidal", 2j)) == 1.0
     assert np.isinf(cl.amplification_factor("backward_euler", 1.0))
     assert np.isinf(cl.amplification_factor("trapezoidal", 2.0))
+
+
+# --- A-stability, L-stability and the symplectic segment (section 2 prose) -----------------
+def test_l_stability_backward_euler_vs_trapezoid():
+    # "R(-100) = -49/51 ≈ -0.96" for the trapezoid; backward Euler's R -> 0, the trapezoid's -> -1
+    assert cl.amplification_factor("trapezoidal", -100.0) == pytest.approx(-49 / 51, rel=1e-15)
+    assert round(-49 / 51, 2) == -0.96
+    assert abs(cl.amplification_factor("backward_euler", -1e8)) == pytest.approx(0.0, abs=1e-7)
+    assert cl.amplification_factor("trapezoidal", -1e8) == pytest.approx(-1.0, abs=1e-7)
+    # both A-stable: |R| <= 1 on a sample of the closed left half-plane
+    rng = np.random.default_rng(2026)
+    z = -rng.exponential(5.0, 2000) + 1j * rng.normal(0.0, 20.0, 2000)
+    z = np.concatenate([z, 1j * np.linspace(-50, 50, 201)])
+    for m in ("backward_euler", "trapezoidal"):
+        assert np.all(cl.is_stable(m, z))
+
+
+@pytest.mark.parametrize("method", ["symplectic_euler", "velocity_verlet"])
+def test_symplectic_segment_edge_is_linear_growth(method):
+    for theta in (0.5, 1.0, 1.9):
+        assert abs(cl.amplification_factor(method, 1j * theta)) == pytest.approx(1.0, abs=1e-12)
+    assert abs(cl.amplification_factor(method, 2.1j)) > 1
+    # ω dt = 2: a double eigenvalue -1 (a Jordan block), so y_n = (-1)^n (y_0 + n N y_0):
+    # a run from a generic start grows linearly, without bound
+    run = cl.integrate(cl.systems.oscillator(1.0), [1.0, 0.5], (0.0, 400.0), 2.0, method)
+    even = run.y[::2]
+    assert np.allclose(np.diff(even, axis=0), even[1] - even[0], rtol=1e-9, atol=1e-9)
+    assert np.linalg.norm(run.y[-1]) > 50
+
+
+def test_region_table_printed_values():
+    # the table of section 2 prints "z = -2.0000", "z = -2.7853", "z = i·2.8284", "no limit"
+    assert f"{cl.max_stable_dt('forward_euler', -1.0):.4f}" == "2.0000"
+    assert f"{cl.max_stable_dt('midpoint', -1.0):.4f}" == "2.0000"
+    assert f"{cl.max_stable_dt('rk4', -1.0):.4f}" == "2.7853"
+    assert f"{cl.max_stable_dt('rk4', 1j):.4f}" == "2.8284"
+    for m in ("backward_euler", "trapezoidal"):
+        assert cl.max_stable_dt(m, -1.0) >= 1e3 and cl.max_stable_dt(m, 1j) >= 1e3
+    for m in ("forward_euler", "midpoint"):
+        assert cl.max_stable_dt(m, 1j) == 0.0

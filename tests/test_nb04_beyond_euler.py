@@ -294,3 +294,66 @@ def test_backward_euler_decay_mistakes(wrong, hint, capsys):
     status, out = verdict(check.backward_euler_decay, wrong, capsys, "backward_euler_decay")
     assert status == "incorrect"
     assert hint in out
+
+
+# --- numbers and claims added in review ------------------------------------------------------
+
+
+def test_backward_euler_radius_is_2_over_sqrt5():
+    be = cl.backward_euler(cl.fields.vortex, 0.0, np.array([0.0, 1.0]), 0.5)
+    assert np.linalg.norm(be) == pytest.approx(2 / math.sqrt(5), rel=1e-12)  # printed 0.894427
+    assert f"{2 / math.sqrt(5):.6f}" == "0.894427"
+
+
+def test_printed_costs_for_target_error(study):
+    printed = {"forward_euler": 214470, "midpoint": 1508, "heun": 1508, "rk4": 149}
+    for m, quoted in printed.items():
+        _, errors, nfev, _ = study[m]
+        slope, icpt = np.polyfit(np.log(nfev[-4:]), np.log(errors[-4:]), 1)
+        assert round(math.exp((math.log(1e-4) - icpt) / slope)) == quoted
+
+
+def test_midpoint_and_heun_identical_on_constant_linear_field():
+    # both are X -> (I + dt A + dt²/2 A²) X when V = A X
+    dt = 0.5
+    step = np.eye(2) + dt * J + dt**2 / 2 * J @ J
+    X = np.array([0.3, -1.2])
+    for m in ("midpoint", "heun"):
+        np.testing.assert_allclose(cl.step(m, cl.fields.vortex, 0.0, X, dt), step @ X,
+                                   rtol=1e-15, atol=1e-15)
+    a = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 10 * np.pi), dt, method="midpoint")
+    b = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 10 * np.pi), dt, method="heun")
+    np.testing.assert_allclose(a.y, b.y, rtol=1e-13, atol=1e-13)
+
+
+@pytest.mark.parametrize(("method", "p"), [("forward_euler", 1), ("midpoint", 2), ("rk4", 4)])
+def test_leading_error_term_and_radius_order(method, p):
+    # R(z) = e^z - z^(p+1)/(p+1)! + ...; for even p that term is imaginary on z = iθ (phase),
+    # and the radius error starts at θ^(p+2); for p = 1 it is real and starts at θ^2
+    th = 1e-2
+    z = 1j * th
+    lead = (cl.amplification_factor(method, z) - np.exp(z)) / z ** (p + 1)
+    assert lead == pytest.approx(-1 / math.factorial(p + 1), rel=2e-2)
+    if p % 2 == 0:
+        assert abs((z ** (p + 1)).real) < 1e-30
+    radius_power = 2 if p == 1 else p + 2
+    ratio = (abs(cl.amplification_factor(method, 2 * z)) - 1) / (
+        abs(cl.amplification_factor(method, z)) - 1)
+    assert ratio == pytest.approx(2.0**radius_power, rel=2e-2)
+
+
+def test_trapezoid_keeps_quadratic_invariant_only_on_linear_fields():
+    def swirl(t, X):  # |X| is a quadratic invariant of this nonlinear field
+        return (1.0 + X[0]) * (J @ X)
+
+    X = np.array([1.0, 0.5])
+    dt = 0.4
+    Y = cl.trapezoidal(swirl, 0.0, X, dt)
+    assert abs(np.linalg.norm(Y) - np.linalg.norm(X)) > 1e-4  # lost on a nonlinear field
+    Y_lin = cl.trapezoidal(cl.fields.vortex, 0.0, X, dt)
+    assert np.linalg.norm(Y_lin) == pytest.approx(np.linalg.norm(X), rel=1e-13)
+    # the implicit midpoint rule Y = X + dt f((X + Y)/2) keeps it (fixed-point iteration)
+    Ym = X.copy()
+    for _ in range(200):
+        Ym = X + dt * swirl(0.0, (X + Ym) / 2)
+    assert np.linalg.norm(Ym) == pytest.approx(np.linalg.norm(X), rel=1e-12)
