@@ -11,7 +11,8 @@ import matplotlib
 matplotlib.use("Agg")
 
 from benchmarks.__main__ import Result, median_time
-from course_lib import explorer
+from course_lib.lessons import nb03_explorer_view as exv
+from course_lib.lessons import nb03_stability as ex
 from course_lib.plotting import use_course_style
 
 TARGET = 0.050  # s, compute + draw after one control change, default settings
@@ -19,7 +20,7 @@ TARGET = 0.050  # s, compute + draw after one control change, default settings
 
 def run() -> list[Result]:
     use_course_style()
-    view = explorer.stability_explorer()
+    view = exv.stability_explorer()
     dt = view.controls["dt"]
     values = iter([0.5, 0.51] * 1000)
 
@@ -27,7 +28,7 @@ def run() -> list[Result]:
         dt.value = next(values)
 
     def compute() -> None:
-        explorer.run_experiment(**view.params)
+        ex.run_experiment(**view.params)
 
     return [
         Result("explorer: run_experiment (defaults)", median_time(compute)),

@@ -1,12 +1,24 @@
 """course_lib: integrators, forces and models for a course on physics-based animation.
 
+Layers (a module may import only from layers above it):
+
+- **core** (this package's top level): integrators, implicit solves, stability, fields,
+  systems, forces, springs, hair strands, collisions, events. Reusable outside the
+  course: no widgets, no plotting, no notebook scenes.
+- **view helpers** (:mod:`~course_lib.plotting`, :mod:`~course_lib.widgets`): styles,
+  animation players, the pure-function + thin-view widget pattern.
+- **lessons** (:mod:`course_lib.lessons`): one module per notebook
+  (``lessons/nbNN_topic.py``) with its scenes, runners, drawings and widget views.
+- **checks** (:mod:`course_lib.check`) and **instructor** tools
+  (:mod:`course_lib.instructor`).
+
 The pieces follow Baraff & Witkin's split: a model exposes ``f(t, y) -> dy/dt``
 (:mod:`~course_lib.fields`, :mod:`~course_lib.systems`, :mod:`~course_lib.forces`,
 :mod:`~course_lib.springs`), and a solver (:mod:`~course_lib.integrators`) advances any
 such ``f`` without knowing the physics.
 """
 
-from . import collisions, demos, events, fields, forces, hair, springs, stability, systems
+from . import collisions, events, fields, forces, hair, springs, stability, systems
 from .implicit import ConvergenceError
 from .integrators import (
     EVALS_PER_STEP,
@@ -44,7 +56,6 @@ __all__ = [
     "amplification_factor",
     "backward_euler",
     "collisions",
-    "demos",
     "events",
     "fields",
     "forces",

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _validate
+from .systems import split_state
 
 #: Standard gravity (m/s²), pointing down the y axis as in the syllabus.
 G_EARTH = np.array([0.0, -9.81, 0.0])
@@ -181,3 +182,16 @@ def attractor(center, strength: float, softening: float = 0.1):
         return strength * r / d2**1.5
 
     return F
+
+
+def angular_momentum(y, mass) -> np.ndarray:
+    """Total angular momentum ``Σ m (x v_y - y v_x)`` (2D, scalar) of a state or trajectory."""
+    x, v = split_state(y)
+    return np.sum(np.asarray(mass) * (x[..., 0] * v[..., 1] - x[..., 1] * v[..., 0]), axis=-1)
+
+
+def nbody_energy(y, mass, G: float = 1.0, softening: float = 0.0) -> np.ndarray:
+    """Kinetic plus (softened) gravitational potential energy of a state or trajectory."""
+    x, v = split_state(y)
+    kinetic = 0.5 * np.sum(np.asarray(mass) * np.sum(v * v, axis=-1), axis=-1)
+    return kinetic + nbody_potential_energy(x, mass, G, softening)

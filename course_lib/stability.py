@@ -135,3 +135,22 @@ def max_stable_dt(method: str, lam: complex, dt_max: float = 1e3) -> float:
         if hi - lo <= 4 * np.finfo(float).eps * hi:
             break
     return float(lo)
+
+
+def bisect_stable_dt(is_stable, lo: float, hi: float, rtol: float = 1e-5) -> float:
+    """Largest ``dt`` in ``[lo, hi]`` for which ``is_stable(dt)`` holds, by bisection.
+
+    ``is_stable(lo)`` must be true and ``is_stable(hi)`` false (checked). Returns the
+    stable end of the final bracket, whose width is below ``rtol * lo``.
+    """
+    if not is_stable(lo):
+        raise ValueError(f"the run is already unstable at the lower bracket dt = {lo:g}")
+    if is_stable(hi):
+        raise ValueError(f"the run is still stable at the upper bracket dt = {hi:g}")
+    while hi - lo > rtol * lo:
+        mid = 0.5 * (lo + hi)
+        if is_stable(mid):
+            lo = mid
+        else:
+            hi = mid
+    return float(lo)

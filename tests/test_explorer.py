@@ -12,12 +12,13 @@ import numpy as np
 import pytest
 
 import course_lib as cl
-from course_lib import explorer as ex
+from course_lib.lessons import nb03_explorer_view as exv
+from course_lib.lessons import nb03_stability as ex
 
 
 @pytest.fixture(scope="module")
 def view():
-    return ex.stability_explorer()
+    return exv.stability_explorer()
 
 
 def test_controls_cover_every_method_and_both_problems(view):
@@ -48,7 +49,7 @@ def test_forward_euler_decay_flips_between_1_9_and_2_1(view):
     # the view really drew the figure (off-screen, with Agg)
     assert type(view.figure.canvas).__name__ == "FigureCanvasAgg"
     height, width = np.asarray(view.figure.canvas.buffer_rgba()).shape[:2]
-    assert (width, height) == tuple(round(v * view.figure.dpi) for v in ex.FIGSIZE)
+    assert (width, height) == tuple(round(v * view.figure.dpi) for v in exv.FIGSIZE)
     assert "blew up at step 8" in view.figure.texts[0].get_text()
 
 
@@ -143,7 +144,7 @@ def test_verdict_is_theory_and_never_warns(problem, method, dt):
 def test_draw_static_figure_has_labelled_equal_aspect_plane():
     import matplotlib.pyplot as plt
 
-    fig = ex.draw_experiment(ex.run_experiment("decay", "forward_euler", 2.1))
+    fig = exv.draw_experiment(ex.run_experiment("decay", "forward_euler", 2.1))
     ax_t, ax_z = fig.axes
     assert ax_t.get_xlabel() == "time t (s)" and "Re z" in ax_z.get_xlabel()
     assert ax_z.get_aspect() == 1.0

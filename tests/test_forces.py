@@ -5,7 +5,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from course_lib import collisions, demos, events, forces
+from course_lib import collisions, events, forces
+from course_lib.lessons import nb05_newton as nb05
+from course_lib.lessons import nb06_forces as nb06
 
 
 def test_nbody_third_law_and_potential_gradient():
@@ -108,13 +110,13 @@ def test_local_maxima_exact_on_parabola_and_fit_circle():
 
 
 def test_demo_helpers():
-    assert demos.euler_apple_height(15) == pytest.approx(10 - 9.81 * 0.01 * 105)
-    assert demos.symplectic_apple_height(14) == pytest.approx(10 - 9.81 * 0.01 * 105)
-    m, y0 = demos.cluster()
-    assert demos.angular_momentum(y0, m).shape == ()
-    E = demos.nbody_energy(y0, m, softening=0.1)
+    assert nb05.euler_apple_height(15) == pytest.approx(10 - 9.81 * 0.01 * 105)
+    assert nb05.symplectic_apple_height(14) == pytest.approx(10 - 9.81 * 0.01 * 105)
+    m, y0 = nb06.cluster()
+    assert forces.angular_momentum(y0, m).shape == ()
+    E = forces.nbody_energy(y0, m, softening=0.1)
     assert np.isfinite(E) and E < 0                                   # bound cluster
-    _x, v = demos.linear_drag_exact([0.0, 1e3], [0, 0], [1, 1], 2.0, 0.5, wind=[3.0, 0.0])
+    _x, v = nb06.linear_drag_exact([0.0, 1e3], [0, 0], [1, 1], 2.0, 0.5, wind=[3.0, 0.0])
     assert np.allclose(v[0], [1, 1]) and np.allclose(v[1], [3.0, -9.81 * 4])
-    _t, h, v = demos.bouncing_ball(restitution=0.0, t_end=2.0)
+    _t, h, v = nb06.bouncing_ball(restitution=0.0, t_end=2.0)
     assert h[-1] == 0.0 and v[-1] == 0.0                               # comes to rest

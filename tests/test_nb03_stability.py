@@ -8,6 +8,7 @@ import pytest
 import course_lib as cl
 from course_lib.check import RESULTS
 from course_lib.check import nb03 as check
+from course_lib.lessons import nb03_stability as ex
 
 
 # --- section 1: the decay ------------------------------------------------------------------
@@ -113,7 +114,6 @@ def test_energy_factor_exactly_1_plus_omega2_dt2_per_step():
 
 # --- section 3: the explorer's key states ----------------------------------------------------
 def test_key_states_quoted():
-    from course_lib import explorer as ex
 
     a = ex.run_experiment("decay", "forward_euler", dt=1.9)
     b = ex.run_experiment("decay", "forward_euler", dt=2.1)

@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 
 import course_lib as cl
-from course_lib import demos, events
+from course_lib import events
 from course_lib.check import RESULTS
 from course_lib.check import nb05 as check
+from course_lib.lessons import nb05_newton as nb05
 
 G, DT, H0 = 9.81, 0.1, 10.0
 T_EXACT = np.sqrt(2 * H0 / G)
@@ -14,7 +15,7 @@ T_EXACT = np.sqrt(2 * H0 / G)
 
 @pytest.fixture(scope="module")
 def runs():
-    return {m: demos.apple_drop(m, dt=DT, h0=H0, t_end=2.0)
+    return {m: nb05.apple_drop(m, dt=DT, h0=H0, t_end=2.0)
             for m in ("forward_euler", "symplectic_euler", "velocity_verlet", "midpoint",
                       "heun", "rk4")}
 
@@ -83,8 +84,8 @@ def test_closed_forms_of_euler_heights(runs):
     h_se = H0 - G * DT**2 * n * (n + 1) / 2
     assert np.allclose(heights(runs["forward_euler"]), h_fe, rtol=0, atol=1e-12)
     assert np.allclose(heights(runs["symplectic_euler"]), h_se, rtol=0, atol=1e-12)
-    assert np.allclose(demos.euler_apple_height(n, DT, H0, G), h_fe)
-    assert np.allclose(demos.symplectic_apple_height(n, DT, H0, G), h_se)
+    assert np.allclose(nb05.euler_apple_height(n, DT, H0, G), h_fe)
+    assert np.allclose(nb05.symplectic_apple_height(n, DT, H0, G), h_se)
     # the exact parabola delayed (FE) / advanced (SE) by dt/2 and raised by g dt²/8
     assert np.allclose(h_fe, H0 + G * DT**2 / 8 - 0.5 * G * (n * DT - DT / 2) ** 2)
     assert np.allclose(h_se, H0 + G * DT**2 / 8 - 0.5 * G * (n * DT + DT / 2) ** 2)
@@ -95,7 +96,7 @@ def test_closed_forms_of_euler_heights(runs):
 def test_halving_dt_halves_euler_impact_error():
     errs = []
     for dt in (0.1, 0.05):
-        tr = demos.apple_drop("forward_euler", dt=dt)
+        tr = nb05.apple_drop("forward_euler", dt=dt)
         errs.append(events.first_crossing(tr.t, heights(tr)) - T_EXACT)
     assert errs[1] == pytest.approx(0.025, abs=1e-3)
     assert errs[0] / errs[1] == pytest.approx(2.0, rel=0.02)
@@ -128,8 +129,8 @@ def test_forward_euler_energy_factor(osc_runs):
 
 
 def test_modified_energies_are_conserved(osc_runs):
-    se = demos.symplectic_modified_energy(osc_runs["symplectic_euler"].y, 1.0, 0.1)
-    vv = demos.verlet_modified_energy(osc_runs["velocity_verlet"].y, 1.0, 0.1)
+    se = nb05.symplectic_modified_energy(osc_runs["symplectic_euler"].y, 1.0, 0.1)
+    vv = nb05.verlet_modified_energy(osc_runs["velocity_verlet"].y, 1.0, 0.1)
     assert np.ptp(se) < 1e-12 and np.ptp(vv) < 1e-12
     # the sign of the dt term matters: with + it is not conserved
     wrong = cl.systems.oscillator_energy(osc_runs["symplectic_euler"].y) + 0.05 * np.prod(
@@ -149,7 +150,7 @@ def test_energy_bands(osc_runs):
     assert round(100 * (hi / 0.5 - 1), 1) == 5.3                   # "5.3 % above"
     # the symplectic band follows from omega |x v| <= E: modified energy within (1 -/+ dt/2) E
     y = osc_runs["symplectic_euler"].y
-    Et = demos.symplectic_modified_energy(y, 1.0, 0.1)
+    Et = nb05.symplectic_modified_energy(y, 1.0, 0.1)
     assert np.all(np.abs(Et - E_se) <= 0.05 * E_se + 1e-15)
     vv_lo = 0.5 * (1 - 0.01 / 4)
     assert round(vv_lo, 5) == 0.49875 and 1 - vv_lo / 0.5 == pytest.approx(0.0025)

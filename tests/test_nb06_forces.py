@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 
 import course_lib as cl
-from course_lib import demos, events
+from course_lib import events, forces
 from course_lib.check import RESULTS
 from course_lib.check import nb06 as check
+from course_lib.lessons import nb06_forces as nb06
 
 G = 9.81
 
@@ -24,7 +25,7 @@ def test_net_force_is_the_sum():
 
 
 def test_two_body_period():
-    masses, y0, T = demos.two_body_circular(M=1.0, m=0.01, r=1.0, G=1.0)
+    masses, y0, T = nb06.two_body_circular(M=1.0, m=0.01, r=1.0, G=1.0)
     assert T == pytest.approx(2 * np.pi * np.sqrt(1 / 1.01), rel=1e-15)
     system = cl.newtonian(cl.forces.nbody_gravity(masses, G=1.0), masses)
     orbit = cl.integrate(system, y0, (0.0, 5 * T), T / 2000, "velocity_verlet")
@@ -41,7 +42,7 @@ def test_two_body_period():
 
 
 def test_two_body_period_error_is_second_order():
-    masses, y0, T = demos.two_body_circular(M=1.0, m=0.01, r=1.0, G=1.0)
+    masses, y0, T = nb06.two_body_circular(M=1.0, m=0.01, r=1.0, G=1.0)
     system = cl.newtonian(cl.forces.nbody_gravity(masses, G=1.0), masses)
     errs = []
     for steps in (1000, 2000):
@@ -52,15 +53,15 @@ def test_two_body_period_error_is_second_order():
 
 
 def test_cluster_conservation():
-    m, y0 = demos.cluster(n=8, seed=2026)
+    m, y0 = nb06.cluster(n=8, seed=2026)
     assert m.sum() == pytest.approx(1.0)
     assert np.allclose(m @ y0[0], 0.0) and np.allclose(m @ y0[1], 0.0)
     stars = cl.newtonian(cl.forces.nbody_gravity(m, softening=0.1), m)
     out = {}
     for meth in ("forward_euler", "symplectic_euler", "velocity_verlet", "rk4"):
         tr = cl.integrate(stars, y0, (0.0, 20.0), 0.01, meth)
-        E = demos.nbody_energy(tr.y, m, softening=0.1)
-        L = demos.angular_momentum(tr.y, m)
+        E = forces.nbody_energy(tr.y, m, softening=0.1)
+        L = forces.angular_momentum(tr.y, m)
         out[meth] = (np.abs(E / E[0] - 1).max(), np.abs(L - L[0]).max())
     assert out["forward_euler"][0] > 0.5 and out["forward_euler"][1] > 1e-2
     assert out["symplectic_euler"][1] < 1e-13 and out["velocity_verlet"][1] < 1e-13
@@ -130,13 +131,13 @@ def test_wind_exact_solution():
                                                     cl.forces.drag(b=0.5, wind=[w, 0.0])), 1.0)
         tr = cl.integrate(system, cl.stack_state([[0.0, 0.0]], [[5.0, 5.0]]), (0.0, 2.0), 0.05,
                           "rk4")
-        x, v = demos.linear_drag_exact(t, [0, 0], [5, 5], 1.0, 0.5, wind=[w, 0.0])
+        x, v = nb06.linear_drag_exact(t, [0, 0], [5, 5], 1.0, 0.5, wind=[w, 0.0])
         assert np.allclose(tr.y[:, 0, 0], x, atol=1e-6)
         assert np.allclose(tr.y[:, 1, 0], v, atol=1e-6)
     # head wind -4 m/s: horizontal velocity -4 + 9 e^{-t/2} changes sign at 2 ln(9/4) s
     t_turn = 2 * np.log(9 / 4)
     assert round(t_turn, 2) == 1.62
-    _, v_turn = demos.linear_drag_exact([t_turn], [0, 0], [5, 5], 1.0, 0.5, wind=[-4.0, 0.0])
+    _, v_turn = nb06.linear_drag_exact([t_turn], [0, 0], [5, 5], 1.0, 0.5, wind=[-4.0, 0.0])
     assert v_turn[0, 0] == pytest.approx(0.0, abs=1e-12)
 
 
@@ -167,11 +168,11 @@ def test_friction_stopping():
 
 def test_bouncing_ball_ratios():
     e = 0.8
-    t, h, _ = demos.bouncing_ball(h0=1.0, restitution=e, dt=0.01, t_end=3.0, locate=True)
+    t, h, _ = nb06.bouncing_ball(h0=1.0, restitution=e, dt=0.01, t_end=3.0, locate=True)
     _, peaks = events.local_maxima(t, h)
     assert np.allclose(peaks[:4], e ** (2 * np.arange(1, 5)), rtol=1e-10)
     assert np.allclose(np.round(peaks[:4], 4), [0.64, 0.4096, 0.2621, 0.1678])
-    t, h, _ = demos.bouncing_ball(h0=1.0, restitution=e, dt=0.01, t_end=3.0, locate=False)
+    t, h, _ = nb06.bouncing_ball(h0=1.0, restitution=e, dt=0.01, t_end=3.0, locate=False)
     _, peaks = events.local_maxima(t, h)
     ratios = peaks[:4] / np.r_[1.0, peaks[:3]]
     assert np.all((ratios > 0.65) & (ratios < 0.68))       # "between 0.65 and 0.68"
@@ -183,13 +184,13 @@ def test_bouncing_ball_ratios():
 def test_bounce_post_step_error_shrinks_with_dt():
     errs = []
     for dt in (0.01, 0.001):
-        t, h, _ = demos.bouncing_ball(dt=dt, t_end=1.0, locate=False)
+        t, h, _ = nb06.bouncing_ball(dt=dt, t_end=1.0, locate=False)
         errs.append(abs(events.local_maxima(t, h)[1][0] - 0.64))
     assert errs[1] < errs[0] / 5
 
 
 def test_helix():
-    tr = demos.charged_particle(1.0, 1.0, (0.0, 0.0, 2.0), (1.0, 0.0, 0.3), dt=0.01, t_end=10.0)
+    tr = nb06.charged_particle(1.0, 1.0, (0.0, 0.0, 2.0), (1.0, 0.0, 0.3), dt=0.01, t_end=10.0)
     center, r = events.fit_circle(tr.y[:, 0, 0, :2])
     assert r == pytest.approx(0.5, rel=1e-6)
     assert np.allclose(center, [0.0, -0.5], atol=1e-6)
@@ -202,20 +203,20 @@ def test_helix():
     assert 3 < 10.0 / np.pi < 3.5                                        # "three turns"
     speed = np.linalg.norm(tr.y[:, 1, 0], axis=1)
     assert np.allclose(speed, np.hypot(1.0, 0.3), rtol=1e-8)
-    fe = demos.charged_particle(1.0, 1.0, (0.0, 0.0, 2.0), (1.0, 0.0, 0.3), dt=0.01, t_end=1.0,
+    fe = nb06.charged_particle(1.0, 1.0, (0.0, 0.0, 2.0), (1.0, 0.0, 0.3), dt=0.01, t_end=1.0,
                                 method="forward_euler")
     vperp = np.linalg.norm(fe.y[:, 1, 0, :2], axis=1)
     assert np.allclose(vperp[1:] / vperp[:-1], np.sqrt(1 + 0.02**2), rtol=1e-13)
 
 
 def test_steering_widget_and_pure_function():
-    still = demos.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=0.0)
+    still = nb06.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=0.0)
     assert np.allclose(np.round(still.centroid, 2), [0.99, 0.50])
-    windy = demos.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=-1.0)
+    windy = nb06.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=-1.0)
     assert np.allclose(np.round(windy.centroid, 2), [-0.05, 0.45])
-    again = demos.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=-1.0)
+    again = nb06.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=-1.0)
     assert np.array_equal(again.x, windy.x)                        # pure and seeded
-    view = demos.steering_view(cx=1.0, cy=0.5)
+    view = nb06.steering_view(cx=1.0, cy=0.5)
     assert np.allclose(view.result.center, [1.0, 0.5])
     view.controls["cx"].value = -1.5
     assert np.allclose(view.result.center, [-1.5, 0.5])

@@ -9,6 +9,7 @@ import course_lib as cl
 from course_lib import springs as S
 from course_lib.check import RESULTS
 from course_lib.check import nb07 as check
+from course_lib.lessons import nb07_springs as nb07
 
 K, M, X0 = 10.0, 1.0, 0.1
 
@@ -64,28 +65,28 @@ def test_critical_damping_and_settling_times():
     t_grid = np.linspace(0.0, 15.0, 150_001)
     t_finer = np.linspace(0.0, 15.0, 1_500_001)
     for factor, settle in quoted.items():
-        run = S.run_spring(K, factor * c, 0.01, "velocity_verlet", m=M, t_end=15.0, stretch=X0)
-        assert S.settling_time(run.t, run.x) == pytest.approx(numerical[factor], abs=0.005)
+        run = nb07.run_spring(K, factor * c, 0.01, "velocity_verlet", m=M, t_end=15.0, stretch=X0)
+        assert nb07.settling_time(run.t, run.x) == pytest.approx(numerical[factor], abs=0.005)
         exact = S.damped_oscillator(t_grid, K, M, factor * c, X0)
-        assert S.settling_time(t_grid, exact) == pytest.approx(settle, abs=0.005)
+        assert nb07.settling_time(t_grid, exact) == pytest.approx(settle, abs=0.005)
         # a ten times finer grid does not change the quoted value
         exact = S.damped_oscillator(t_finer, K, M, factor * c, X0)
-        assert S.settling_time(t_finer, exact) == pytest.approx(settle, abs=0.005)
+        assert nb07.settling_time(t_finer, exact) == pytest.approx(settle, abs=0.005)
     # critical damping in closed form: (1 + ωt) e^{-ωt} = 0.01
     from scipy.optimize import brentq
     omega = np.sqrt(K / M)
     u = brentq(lambda u: (1 + u) * np.exp(-u) - 0.01, 1.0, 20.0)
     assert u / omega == pytest.approx(2.10, abs=0.005)
     # critical is the fastest of the three, and never crosses zero
-    run = S.run_spring(K, c, 0.01, "velocity_verlet", t_end=15.0)
+    run = nb07.run_spring(K, c, 0.01, "velocity_verlet", t_end=15.0)
     assert np.all(run.x > -1e-9)
-    assert np.all(S.run_spring(K, 4 * c, 0.01, "velocity_verlet", t_end=15.0).x > 0)
+    assert np.all(nb07.run_spring(K, 4 * c, 0.01, "velocity_verlet", t_end=15.0).x > 0)
 
 
 def test_dt_max_measured_against_two_over_omega():
     ks = [1.0, 4.0, 16.0, 64.0, 256.0]
     printed = [1.999939, 0.999969, 0.499985, 0.249992, 0.124996]
-    measured = [S.spring_dt_max(k, M) for k in ks]
+    measured = [nb07.spring_dt_max(k, M) for k in ks]
     for k, d, shown in zip(ks, measured, printed, strict=True):
         theory = 2.0 / np.sqrt(k / M)
         assert d / theory == pytest.approx(0.99997, abs=5e-6)      # quoted: within 0.003%
@@ -116,17 +117,17 @@ def test_symplectic_euler_limit_from_the_amplification_matrix():
 
 def test_widget_static_states():
     assert 2 / np.sqrt(10.0) == pytest.approx(0.632, abs=5e-4)
-    stable = S.run_spring(k=10.0, c=0.0, dt=0.6, method="symplectic_euler", t_end=30.0)
+    stable = nb07.run_spring(k=10.0, c=0.0, dt=0.6, method="symplectic_euler", t_end=30.0)
     assert stable.stable and stable.dt_limit == pytest.approx(2 / np.sqrt(10.0), rel=1e-9)
     assert np.max(np.abs(stable.x[:20])) / X0 == pytest.approx(3.2, abs=0.05)
-    blown = S.run_spring(k=10.0, c=0.0, dt=0.65, method="symplectic_euler", t_end=30.0)
+    blown = nb07.run_spring(k=10.0, c=0.0, dt=0.65, method="symplectic_euler", t_end=30.0)
     assert not blown.stable and "step 26" in blown.message and "t = 16.9" in blown.message
     assert np.nanmax(np.abs(blown.x[:20])) / X0 == pytest.approx(360.0, abs=0.05)
     assert 3.2 == round(np.max(np.abs(stable.x[:20])) / X0, 1)     # "about three times"
 
 
 def test_spring_explorer_view():
-    view = S.spring_explorer(k=10.0, c=0.0, dt=0.05)
+    view = nb07.spring_explorer(k=10.0, c=0.0, dt=0.05)
     assert view.result.stable and view.result.dt_limit == pytest.approx(2 / np.sqrt(10.0), rel=1e-9)
     view.controls["dt"].value = 0.7                       # past the limit 0.632 s
     assert not view.result.stable and view.result.params["dt"] == pytest.approx(0.7, rel=1e-2)

@@ -7,6 +7,7 @@ from course_lib import hair as H
 from course_lib import springs as S
 from course_lib.check import RESULTS
 from course_lib.check import nb08 as check
+from course_lib.lessons import nb08_hair_chains as nb08
 
 M, K = H.MASS, H.STRAND["k_edge"]
 
@@ -31,11 +32,11 @@ def test_strand_setup_and_swing():
 @pytest.mark.parametrize(("k_bend", "zigzag", "sag_cm"), [
     (0.0, 0.0, 28.01), (2000.0, 0.0, 24.85), (0.0, 0.3, 29.24), (2000.0, 0.3, 3.31)])
 def test_held_strand_sag(k_bend, zigzag, sag_cm):
-    assert H.tip_sag(k_bend, zigzag) * 100 == pytest.approx(sag_cm, abs=0.005)
+    assert nb08.tip_sag(k_bend, zigzag) * 100 == pytest.approx(sag_cm, abs=0.005)
 
 
 def test_static_shape_is_an_equilibrium():
-    x0, net = H.held_strand(2000.0, 0.3)
+    x0, net = nb08.held_strand(2000.0, 0.3)
     x = H.static_shape(x0, net)
     F = net.forces(x) + M * np.array([0.0, -9.81, 0.0])
     assert np.abs(F[2:]).max() < 1e-4 * M * 9.81 * 16
@@ -91,14 +92,14 @@ def test_bending_springs_lower_the_limit():
     xz, netz = S.hair_chain(**H.STRAND, k_bend=2000.0, zigzag=0.3)
     assert 2e3 / S.max_frequency(netz, xz, M, pinned=[0]) == pytest.approx(0.18347, abs=5e-6)
     # the held strand (two particles pinned) of the widget: limit 0.184 ms
-    assert H.run_held_strand(dt=1e-4, t_end=0.01).dt_limit * 1e3 == pytest.approx(0.184, abs=5e-4)
+    assert nb08.run_held_strand(dt=1e-4, t_end=0.01).dt_limit * 1e3 == pytest.approx(0.184, abs=5e-4)
 
 
 def test_strain_against_substeps():
     budgets = [10, 20, 40, 80, 160]
-    strains = np.array(H.max_strain_vs_substeps(budgets))
-    assert H.stiffest_edge(10) == pytest.approx(4.5) and H.stiffest_edge(160) == pytest.approx(1152.0)
-    assert [H.stiffest_edge(S_) for S_ in budgets] == pytest.approx([4.5, 18.0, 72.0, 288.0, 1152.0])
+    strains = np.array(nb08.max_strain_vs_substeps(budgets))
+    assert nb08.stiffest_edge(10) == pytest.approx(4.5) and nb08.stiffest_edge(160) == pytest.approx(1152.0)
+    assert [nb08.stiffest_edge(S_) for S_ in budgets] == pytest.approx([4.5, 18.0, 72.0, 288.0, 1152.0])
     assert strains == pytest.approx([0.62341, 0.18409, 0.05122, 0.01284, 0.00303], abs=5e-6)
     ratios = strains[:-1] / strains[1:]
     assert np.all(np.diff(strains) < 0)
@@ -109,13 +110,13 @@ def test_damping_calms_the_strand():
     eq = None
     spans = {}
     for c in (0.0, 2e-3, 1e-2):
-        run = H.run_held_strand(k_bend=2000.0, damping=c, dt=1e-4, t_end=0.5)
+        run = nb08.run_held_strand(k_bend=2000.0, damping=c, dt=1e-4, t_end=0.5)
         assert run.stable
         late = run.tip_y[run.params["t"] > 0.4]
         spans[c] = (late.min(), late.max())
         eq = run.equilibrium[-1, 1]
     assert eq * 100 == pytest.approx(-2.71, abs=0.005)
-    assert eq == pytest.approx(H.held_strand(2000.0, 0.3)[0][-1, 1] - H.tip_sag(2000.0, 0.3), abs=1e-12)
+    assert eq == pytest.approx(nb08.held_strand(2000.0, 0.3)[0][-1, 1] - nb08.tip_sag(2000.0, 0.3), abs=1e-12)
     printed = {0.0: (-6.11, -4.07), 2e-3: (-2.73, -2.65), 1e-2: (-2.35, -2.15)}
     for c, (lo, hi) in printed.items():
         assert spans[c][0] * 100 == pytest.approx(lo, abs=0.005)
@@ -127,12 +128,12 @@ def test_damping_calms_the_strand():
 
 
 def test_widget_blowup_state():
-    run = H.run_held_strand(k_bend=2000.0, damping=2e-3, dt=1.9e-4, t_end=0.5)
+    run = nb08.run_held_strand(k_bend=2000.0, damping=2e-3, dt=1.9e-4, t_end=0.5)
     assert not run.stable and "step 32" in run.message and "t = 0.00608" in run.message
 
 
 def test_held_strand_explorer_view():
-    view = H.held_strand_explorer(k_bend=2000.0, damping=2e-3, dt=1e-4)
+    view = nb08.held_strand_explorer(k_bend=2000.0, damping=2e-3, dt=1e-4)
     assert view.result.stable
     view.controls["dt"].value = 3e-4                      # past the 0.184 ms limit
     assert not view.result.stable
@@ -192,14 +193,14 @@ def test_check_chain_spring_indices(capsys):
 
 
 def test_check_max_strain_for_substeps(capsys):
-    check.max_strain_for_substeps(lambda counts: H.max_strain_vs_substeps(counts))
+    check.max_strain_for_substeps(lambda counts: nb08.max_strain_vs_substeps(counts))
     assert _status("max_strain_for_substeps") == "correct"
     capsys.readouterr()
 
     def frames_only(counts):
         out = []
         for s in counts:
-            x0, net = S.hair_chain(**{**H.STRAND, "k_edge": H.stiffest_edge(s)})
+            x0, net = S.hair_chain(**{**H.STRAND, "k_edge": nb08.stiffest_edge(s)})
             out.append(np.max(np.abs(net.strain(H.simulate(x0, net, frames=12, substeps=s).frames))))
         return out
 

@@ -7,6 +7,8 @@ from hypothesis import strategies as st
 
 import course_lib as cl
 from course_lib import springs as S
+from course_lib import stability
+from course_lib.lessons import nb07_springs as nb07
 
 
 def _random_network(seed=1, n=7):
@@ -105,20 +107,21 @@ def test_critical_damping_and_exact_solutions():
 
 def test_settling_time():
     t = np.linspace(0, 10, 1001)
-    assert S.settling_time(t, np.exp(-t)) == pytest.approx(np.log(100), abs=0.011)
-    assert S.settling_time(t, np.cos(t)) == np.inf
+    assert nb07.settling_time(t, np.exp(-t)) == pytest.approx(np.log(100), abs=0.011)
+    assert nb07.settling_time(t, np.cos(t)) == np.inf
 
 
 def test_bisect_stable_dt_and_brackets():
-    assert S.bisect_stable_dt(lambda dt: dt <= 1.2345, 1.0, 2.0, rtol=1e-9) == pytest.approx(1.2345, rel=1e-8)
+    got = stability.bisect_stable_dt(lambda dt: dt <= 1.2345, 1.0, 2.0, rtol=1e-9)
+    assert got == pytest.approx(1.2345, rel=1e-8)
     with pytest.raises(ValueError):
-        S.bisect_stable_dt(lambda dt: False, 1.0, 2.0)
+        stability.bisect_stable_dt(lambda dt: False, 1.0, 2.0)
     with pytest.raises(ValueError):
-        S.bisect_stable_dt(lambda dt: True, 1.0, 2.0)
+        stability.bisect_stable_dt(lambda dt: True, 1.0, 2.0)
 
 
 def test_spring_dt_max_matches_theory():
-    assert S.spring_dt_max(9.0, 1.0) == pytest.approx(2.0 / 3.0, rel=2e-3)
+    assert nb07.spring_dt_max(9.0, 1.0) == pytest.approx(2.0 / 3.0, rel=2e-3)
 
 
 def test_anchored_spring_is_the_1d_oscillator():
@@ -129,10 +132,10 @@ def test_anchored_spring_is_the_1d_oscillator():
 
 
 def test_run_spring_energy_and_verdict():
-    run = S.run_spring(k=10.0, c=0.0, dt=0.01, method="velocity_verlet", t_end=5.0)
+    run = nb07.run_spring(k=10.0, c=0.0, dt=0.01, method="velocity_verlet", t_end=5.0)
     assert run.stable and np.allclose(run.energy, 0.5 * 10.0 * 0.1**2, rtol=1e-3)
     assert np.allclose(run.exact_energy, 0.05, rtol=1e-12)
-    assert not S.run_spring(k=10.0, dt=0.65).stable
+    assert not nb07.run_spring(k=10.0, dt=0.65).stable
 
 
 def test_hair_chain_families_and_zigzag():

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import demos, events, forces
+from .. import events, forces
 from ..integrators import symplectic_euler, velocity_verlet
+from ..lessons import nb05_newton as demos
 from ..systems import newtonian, oscillator, stack_state, sum_forces
 from . import Checker, exercise
 

@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-# Importing demos and events here also makes them available as cl.demos / cl.events in the
-# notebook (course_lib/__init__.py does not import them itself).
-from .. import demos, events, forces  # noqa: F401
+from .. import forces
 from ..integrators import integrate
 from ..systems import newtonian, stack_state
 from . import Checker, exercise

@@ -7,10 +7,11 @@ import functools
 import numpy as np
 
 from .. import springs
+from ..lessons import nb07_springs
 from . import Checker, exercise
 
 _RNG_SEED = 707
-_measured_dt_max = functools.lru_cache(maxsize=8)(springs.spring_dt_max)
+_measured_dt_max = functools.lru_cache(maxsize=8)(nb07_springs.spring_dt_max)
 
 
 def _cases():

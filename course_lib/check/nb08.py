@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import hair, springs
+from ..lessons import nb08_hair_chains as lesson
 from . import Checker, exercise
 
 
@@ -40,10 +41,10 @@ def max_strain_for_substeps(ck: Checker, func) -> None:
     """``func(substep_counts) -> list``: max edge strain for each substep budget."""
     counts = [10, 20, 40]
     got = np.asarray(func(counts), dtype=float)
-    expected = np.asarray(hair.max_strain_vs_substeps(counts), dtype=float)
+    expected = np.asarray(lesson.max_strain_vs_substeps(counts), dtype=float)
     at_frames = []
     for s in counts:
-        x0, net = springs.hair_chain(**{**hair.STRAND, "k_edge": hair.stiffest_edge(s)})
+        x0, net = springs.hair_chain(**{**hair.STRAND, "k_edge": lesson.stiffest_edge(s)})
         run = hair.simulate(x0, net, frames=12, substeps=s)
         at_frames.append(np.max(np.abs(net.strain(run.frames))))
     ck.close(got, expected, f"max |strain| for substeps {counts}", rtol=1e-6, mistakes={

@@ -1,8 +1,8 @@
-"""Small scenes for notebooks 05 (Newton's second law) and 06 (forces), and their widget.
+"""Notebook 06 (forces): orbits, a cluster, drag, a bouncing ball, a charge, a steered swarm.
 
-Each scene is a pure function built from :mod:`course_lib.forces`,
-:mod:`course_lib.systems` and :func:`course_lib.integrate`, so the notebooks, the tests
-and the widget all run the same code.
+Pure scenes built on the core (:mod:`course_lib.forces`, :mod:`course_lib.collisions`,
+:mod:`course_lib.integrators`), plus the steering widget's drawing and view (imports
+:mod:`course_lib.widgets`). The core never imports this module.
 """
 
 from __future__ import annotations
@@ -11,58 +11,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import collisions, forces
-from .events import crossing_ballistic
-from .integrators import Trajectory, integrate
-from .systems import newtonian, split_state, stack_state, sum_forces
-
-G_STD = 9.81  #: standard gravity (m/s²)
-
-
-# --- notebook 05: the apple ---------------------------------------------------------------
-
-
-def apple_drop(method: str, dt: float = 0.1, h0: float = 10.0, g: float = G_STD,
-               t_end: float = 2.0) -> Trajectory:
-    """An apple (1 kg) released at rest at height ``h0`` under constant gravity, in 2D.
-
-    The state is ``y = (x, v)`` of shape ``(2, 1, 2)``; the height is ``y[:, 0, 0, 1]``.
-    """
-    system = newtonian(forces.constant_gravity(1.0, g=[0.0, -g]), mass=1.0)
-    y0 = stack_state([[0.0, h0]], [[0.0, 0.0]])
-    return integrate(system, y0, (0.0, t_end), dt, method)
-
-
-def euler_apple_height(n, dt: float = 0.1, h0: float = 10.0, g: float = G_STD):
-    """Closed form of forward Euler's height after ``n`` steps: ``h0 - g dt² n(n-1)/2``."""
-    n = np.asarray(n, dtype=float)
-    return h0 - g * dt**2 * n * (n - 1) / 2
-
-
-def symplectic_apple_height(n, dt: float = 0.1, h0: float = 10.0, g: float = G_STD):
-    """Closed form of symplectic Euler's height after ``n`` steps: ``h0 - g dt² n(n+1)/2``."""
-    n = np.asarray(n, dtype=float)
-    return h0 - g * dt**2 * n * (n + 1) / 2
-
-
-# --- notebook 05: energy of the oscillator ---------------------------------------------
-
-
-def symplectic_modified_energy(y, omega: float, dt: float):
-    """``½ v² + ½ ω² x² - ½ dt ω² x v``: conserved exactly by symplectic Euler on
-    ``x'' = -ω² x`` (states ``(..., 2)`` in the layout ``(x, v)``)."""
-    y = np.asarray(y)
-    x, v = y[..., 0], y[..., 1]
-    return 0.5 * v**2 + 0.5 * omega**2 * x**2 - 0.5 * dt * omega**2 * x * v
-
-
-def verlet_modified_energy(y, omega: float, dt: float):
-    """``½ v² + ½ ω² (1 - ω² dt²/4) x²``: conserved exactly by velocity Verlet on
-    ``x'' = -ω² x``."""
-    y = np.asarray(y)
-    x, v = y[..., 0], y[..., 1]
-    return 0.5 * v**2 + 0.5 * omega**2 * (1.0 - 0.25 * (omega * dt) ** 2) * x**2
-
+from .. import collisions, forces
+from ..events import crossing_ballistic
+from ..integrators import Trajectory, integrate
+from ..systems import newtonian, stack_state, sum_forces
+from .nb05_newton import G_STD
 
 # --- notebook 06: drag --------------------------------------------------------------------
 
@@ -111,19 +64,6 @@ def cluster(n: int = 8, seed: int = 2026, radius: float = 1.0):
     x -= m @ x / m.sum()
     v -= m @ v / m.sum()
     return m, stack_state(x, v)
-
-
-def angular_momentum(y, mass) -> np.ndarray:
-    """Total angular momentum ``Σ m (x v_y - y v_x)`` (2D, scalar) of a state or trajectory."""
-    x, v = split_state(y)
-    return np.sum(np.asarray(mass) * (x[..., 0] * v[..., 1] - x[..., 1] * v[..., 0]), axis=-1)
-
-
-def nbody_energy(y, mass, G: float = 1.0, softening: float = 0.0) -> np.ndarray:
-    """Kinetic plus (softened) gravitational potential energy of a state or trajectory."""
-    x, v = split_state(y)
-    kinetic = 0.5 * np.sum(np.asarray(mass) * np.sum(v * v, axis=-1), axis=-1)
-    return kinetic + forces.nbody_potential_energy(x, mass, G, softening)
 
 
 # --- notebook 06: contact -----------------------------------------------------------------
@@ -251,7 +191,7 @@ def steering_view(**initial):
     """The widget: sliders for the attractor's position and strength and the wind."""
     import ipywidgets as w
 
-    from .widgets import ExplorerView, log_slider
+    from ..widgets import ExplorerView, log_slider
 
     p = {"cx": 0.0, "cy": 0.0, "strength": 1.0, "wind": 0.0, **initial}
     style = {"description_width": "initial"}
