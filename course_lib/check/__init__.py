@@ -112,43 +112,74 @@ def _fmt(x: np.ndarray) -> str:
     return np.array2string(np.asarray(x), precision=6, suppress_small=True, separator=", ")
 
 
-def exercise(func: Callable | None = None, *, points: int = 1):
+def exercise(func: Callable | None = None, *, points: int = 1, reference: tuple = ()):
     """Turn ``func(checker, answer, ...)`` into a check called as ``check(answer, ...)``.
 
     The decorated check prints one verdict and records it in :data:`RESULTS`.
     ``NotImplementedError`` from the student's code means "pending"; any other exception
-    from it is reported as a failure with the exception's message.
+    from it is reported as a failure with the exception's message. An answer that uses
+    the reference (see :mod:`course_lib.instructor.policy`; ``reference`` adds callables
+    or dotted names to the automatic ones) fails with that reason.
     """
     if func is None:
-        return functools.partial(exercise, points=points)
+        return functools.partial(exercise, points=points, reference=reference)
     key = f"{func.__module__.rsplit('.', 1)[-1]}.{func.__name__}"
     REGISTRY[key] = points
 
     @functools.wraps(func)
     def run(*args, **kwargs) -> None:
-        ck = Checker(func.__name__)
-        try:
-            func(ck, *args, **kwargs)
-        except NotImplementedError:
-            RESULTS[key] = {"status": "pending", "passed": 0, "total": 0, "points": points}
+        verdict = evaluate(run, *args, **kwargs)
+        status, passed, failed = verdict["status"], verdict["passed_cases"], verdict["failed_cases"]
+        RESULTS[key] = {k: verdict[k] for k in ("status", "passed", "total", "points")}
+        if status == "pending":
             print(f"⏳ {func.__name__}: pending — replace `raise NotImplementedError()` with your code, "
                   "then run this cell again.")
-            return
-        except Exception as exc:  # the student's code failed: say how, do not crash the notebook
-            ck.failed.append(f"your code raised {type(exc).__name__}: {exc}")
-        total = len(ck.passed) + len(ck.failed)
-        status = "correct" if not ck.failed else "incorrect"
-        RESULTS[key] = {"status": status, "passed": len(ck.passed), "total": total, "points": points}
-        if status == "correct":
-            print(f"✅ {func.__name__}: correct ({len(ck.passed)} of {total} checks passed)")
-            for what in ck.passed:
+        elif status == "correct":
+            print(f"✅ {func.__name__}: correct ({len(passed)} of {verdict['total']} checks passed)")
+            for what in passed:
                 print(f"   ✓ {what}")
         else:
-            print(f"❌ {func.__name__}: {len(ck.failed)} of {total} checks failed")
-            for msg in ck.failed:
+            print(f"❌ {func.__name__}: {len(failed)} of {verdict['total']} checks failed")
+            for msg in failed:
                 print(f"   ✗ {msg}")
 
+    run.key, run.points, run.references = key, points, tuple(reference)
     return run
+
+
+def evaluate(check: Callable, *args, **kwargs) -> dict:
+    """Run the ``@exercise`` check ``check`` on an answer without printing or recording.
+
+    Returns the verdict: ``status`` (correct, incorrect, pending), ``passed``/``total``
+    case counts, ``points``, the ``passed_cases`` and ``failed_cases`` messages, ``error``
+    (the exception the answer raised, if any) and ``reference`` (why the answer counts
+    as using the reference, if it does). The grader and nbgrader tests call this.
+    """
+    ck = Checker(check.__name__)
+    verdict = {"status": "incorrect", "points": check.points, "error": None, "reference": None}
+    try:  # the policy must never break a check: on any failure, assume no reference use
+        from ..instructor.policy import reference_use
+
+        verdict["reference"] = reference_use(check, args[0]) if args else None
+    except Exception:
+        pass
+    if verdict["reference"]:
+        ck.failed.append(verdict["reference"])
+    else:
+        try:
+            check.__wrapped__(ck, *args, **kwargs)
+        except NotImplementedError:
+            verdict["status"] = "pending"
+        except Exception as exc:  # the student's code failed: say how, do not crash the notebook
+            verdict["error"] = f"{type(exc).__name__}: {exc}"
+            ck.failed.append(f"your code raised {verdict['error']}")
+    if verdict["status"] == "pending":
+        ck.passed, ck.failed = [], []
+    elif not ck.failed:
+        verdict["status"] = "correct"
+    verdict.update(passed=len(ck.passed), total=len(ck.passed) + len(ck.failed),
+                   passed_cases=list(ck.passed), failed_cases=list(ck.failed))
+    return verdict
 
 
 def summary() -> dict[str, dict]:
