@@ -1,9 +1,11 @@
-"""Plot style and animation helpers shared by the notebooks."""
+"""Plot style and animation helpers shared by the notebooks.
+
+Imports matplotlib and, for animations, :mod:`course_lib.players`.
+"""
 
 from __future__ import annotations
 
 import matplotlib as mpl
-import matplotlib.pyplot as plt
 
 #: Colour for analytic / exact curves, drawn beside every numerical result.
 EXACT_STYLE = {"color": "black", "linestyle": "--", "linewidth": 1.5}
@@ -47,15 +49,30 @@ def use_course_style() -> None:
     })
 
 
-def animation_html(anim, *, default_mode: str = "loop"):
-    """Render a ``matplotlib.animation`` as self-contained HTML/JS and close its figure.
+def animation_html(anim, *, default_mode: str = "loop", dpi: float | None = None):
+    """Render a ``matplotlib.animation`` as a self-contained player and close its figure.
 
-    The result plays in any browser without a kernel. Closing the figure keeps its last
+    The player (:func:`course_lib.players.animation_player`) needs no kernel and no network:
+    its buttons are inline SVG, its frames PNG images. Its first frame is a plain image, so
+    a picture shows as soon as the cell has run, even before its script starts (and in an
+    untrusted notebook, where the controls stay inactive). Closing the figure keeps its last
     frame from being drawn a second time below the player. Keep frame counts and figure
-    sizes small: every frame is embedded as a PNG.
-    """
-    from IPython.display import HTML
+    sizes small: every frame is embedded.
 
-    html = anim.to_jshtml(default_mode=default_mode)
-    plt.close(anim._fig)
-    return HTML(html)
+    Parameters
+    ----------
+    anim : matplotlib.animation.Animation
+        The animation; its frame interval sets the playing speed.
+    default_mode : {"loop", "once", "reflect"}
+        What playing does at the last frame.
+    dpi : float, optional
+        Resolution of the frames (dots per inch); default the figure's.
+
+    Returns
+    -------
+    course_lib.players.Player
+        Displays itself as HTML in a notebook.
+    """
+    from .players import animation_player
+
+    return animation_player(anim, mode=default_mode, dpi=dpi)

@@ -104,13 +104,17 @@ def execute_notebook(path: Path, timeout: int = 300) -> None:
     """Run a notebook top to bottom in its own folder and store the outputs in place.
 
     Uses kernel ``python3`` and strips per-cell timing metadata, so re-executing an
-    unchanged notebook changes nothing but what the code really prints.
+    unchanged notebook changes nothing but what the code really prints. The kernelspec is
+    stored as ipykernel writes it (so JupyterLab does not mark the notebook modified on
+    opening it), and the notebook is signed, so the instructor's own copy opens trusted.
     """
     from nbclient import NotebookClient
+    from nbformat.sign import NotebookNotary
 
     path = Path(path)
     nb = nbformat.read(path, as_version=4)
-    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3 (ipykernel)",
+                                 "language": "python"}
     client = NotebookClient(
         nb, timeout=timeout, kernel_name="python3", record_timing=False,
         extra_arguments=["--log-level=ERROR"],
@@ -120,6 +124,7 @@ def execute_notebook(path: Path, timeout: int = 300) -> None:
     for cell in nb.cells:
         cell.metadata.pop("execution", None)
     nb.metadata.pop("widgets", None)
+    NotebookNotary().sign(nb)
     nbformat.write(nb, path)
 
 
