@@ -1,14 +1,31 @@
-"""``python -m course_lib.instructor {student,execute,grade}``."""
+"""``python -m course_lib.instructor {student,execute,figures,grade,release,nbgrader}``."""
 
 from __future__ import annotations
 
 import argparse
 import sys
-from collections import defaultdict
+from collections import Counter, defaultdict
 from pathlib import Path
 
-from .grade import grade_paths
-from .notebooks import execute_notebook, extract_figures, make_student_versions
+
+def _grade_parser(sub) -> None:
+    p = sub.add_parser("grade", help="grade a class folder: gradebook CSV, feedback, class report")
+    p.add_argument("paths", type=Path, nargs="+",
+                   help="class folders (one subfolder per student) or single notebooks")
+    p.add_argument("--out", type=Path, default=Path("grades.csv"), help="the gradebook (CSV)")
+    p.add_argument("--assignment", nargs="+", action="extend", default=None,
+                   help="assignments to expect from every student (default: those handed in)")
+    p.add_argument("--solutions", type=Path, default=None, help="the kit's solutions folder")
+    p.add_argument("--feedback", type=Path, default=None,
+                   help="folder for per-student feedback (default: <out>-feedback)")
+    p.add_argument("--report", type=Path, default=None,
+                   help="class report HTML (default: <out>-report.html)")
+    p.add_argument("--jobs", type=int, default=None, help="notebooks graded at once (default: cores)")
+    p.add_argument("--timeout", type=float, default=180.0, help="seconds per notebook, all included")
+    p.add_argument("--cell-timeout", type=float, default=30.0, help="seconds per code cell")
+    p.add_argument("--exercise-timeout", type=float, default=20.0, help="seconds per exercise check")
+    p.add_argument("--memory", type=int, default=2048, help="address-space limit per notebook (MB)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -22,30 +39,67 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("figures", help="save a notebook's PNG outputs to a folder for review")
     p.add_argument("notebook", type=Path)
     p.add_argument("outdir", type=Path)
-    p = sub.add_parser("grade", help="run submissions and collect the exercise verdicts")
-    p.add_argument("paths", type=Path, nargs="+", help="submitted notebooks or folders of them")
-    p.add_argument("--out", type=Path, default=Path("grades.csv"))
+    _grade_parser(sub)
+    p = sub.add_parser("release", help="build the package students receive (no solutions)")
+    p.add_argument("out", type=Path, nargs="?", default=Path("dist/student"))
+    p = sub.add_parser("nbgrader", help="export nbgrader source notebooks (a course folder)")
+    p.add_argument("out", type=Path, nargs="?", default=Path("nbgrader"))
     args = parser.parse_args(argv)
 
     if args.command == "student":
+        from .notebooks import make_student_versions
+
         for path in make_student_versions(args.solutions, args.notebooks):
             print(f"wrote {path}")
     elif args.command == "execute":
+        from .notebooks import execute_notebook
+
         for path in args.paths:
             print(f"executing {path} ...", flush=True)
             execute_notebook(path)
     elif args.command == "figures":
+        from .notebooks import extract_figures
+
         for path in extract_figures(args.notebook, args.outdir):
             print(path)
+    elif args.command == "grade":
+        return _grade(args)
+    elif args.command == "release":
+        from .release import build_release
+
+        print(f"wrote the student release to {build_release(args.out)}")
     else:
-        rows = grade_paths(args.paths, args.out)
-        totals: dict[str, list[int]] = defaultdict(lambda: [0, 0])
-        for r in rows:
-            totals[r["submission"]][0] += r["points"]
-            totals[r["submission"]][1] += r["possible"]
-        for sub_name, (got, possible) in totals.items():
-            print(f"{sub_name}: {got}/{possible} points")
-        print(f"wrote {args.out}")
+        from .nbgrader_export import export_nbgrader
+
+        for path in export_nbgrader(args.out):
+            print(f"wrote {path}")
+    return 0
+
+
+def _grade(args) -> int:
+    from .grade import grade_class
+    from .sandbox import Limits
+
+    out = args.out
+    feedback = args.feedback or out.with_name(f"{out.stem}-feedback")
+    report = args.report or out.with_name(f"{out.stem}-report.html")
+    limits = Limits(deadline=args.timeout, cell_s=args.cell_timeout, exercise_s=args.exercise_timeout,
+                    memory_mb=args.memory)
+    try:
+        rows = grade_class(args.paths, out, solutions=args.solutions, assignments=args.assignment,
+                           limits=limits, jobs=args.jobs, feedback_dir=feedback, report=report,
+                           progress=not args.no_progress)
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    totals: dict[str, list[int]] = defaultdict(lambda: [0, 0])
+    for r in rows:
+        totals[r.student][0] += r.points
+        totals[r.student][1] += r.possible
+    for student, (got, possible) in totals.items():
+        print(f"{student}: {got}/{possible} points")
+    print("verdicts: " + ", ".join(f"{n} {s}" for s, n in Counter(r.status for r in rows).most_common()))
+    print(f"wrote {out}, {feedback}/ and {report}")
     return 0
 
 

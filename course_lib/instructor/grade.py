@@ -1,67 +1,230 @@
-"""Grade submitted notebooks by running them and reading the exercise checks' verdicts.
+"""Grading a class: every student, every expected exercise, one row each, in parallel.
 
-Each submission is executed in a fresh kernel with errors allowed (a broken cell costs
-only the exercises that depend on it); a final cell, added by the grader, prints
-:func:`course_lib.check.summary` as JSON. Points are awarded per exercise whose check
-passed all cases.
+:func:`grade_class` reads the kit's assignments (:mod:`.kit`), the roster and each
+student's files (:mod:`.submissions`), scans each notebook without running it
+(:mod:`.scan`), runs it in a sandboxed worker (:mod:`.sandbox`) and judges the recorded
+values with the kit's checks (:mod:`.verdicts`). Submissions are graded concurrently
+(one worker process each, ``jobs`` at a time); rows are appended to the CSV as each
+submission finishes, so an interrupted run leaves a valid gradebook of what was graded,
+and the file is rewritten in a stable order at the end. Then come the feedback files and
+the class report (:mod:`.feedback`, :mod:`.report`).
+
+Nothing here raises because of a submission: any failure becomes rows with a status.
+Imports: the standard library, tqdm, and this package's modules.
 """
 
 from __future__ import annotations
 
 import csv
-import json
+import os
+import re
+import sys
+import traceback
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass
 from pathlib import Path
 
-import nbformat
-
-_SUMMARY_CELL = (
-    "import json as _json\n"
-    "from course_lib import check as _check\n"
-    "print('@@GRADE@@' + _json.dumps(_check.summary()))"
-)
+from .kit import Assignment, load_kit
+from .sandbox import Limits, Run, Runtime, run_submission
+from .scan import answer_binding, tamper_findings
+from .submissions import Student, Unreadable, choose, normalized, read_notebook, students
+from .verdicts import FIELDS, Row, judge
 
 
-def grade_notebook(path: Path, timeout: int = 120) -> dict[str, dict]:
-    """Execute one submission and return ``{exercise: verdict}`` from its checks."""
-    from nbclient import NotebookClient
+def default_solutions() -> Path:
+    """``solutions/`` in the current folder, else beside the installed course_lib."""
+    here = Path("solutions")
+    if here.is_dir():
+        return here
+    import course_lib
 
-    path = Path(path)
-    nb = nbformat.read(path, as_version=4)
-    nb.cells.append(nbformat.v4.new_code_cell(_SUMMARY_CELL))
-    client = NotebookClient(
-        nb, timeout=timeout, kernel_name="python3", allow_errors=True, extra_arguments=["--log-level=ERROR"],
-        resources={"metadata": {"path": str(path.parent)}},
-    )
-    client.execute()
-    for out in nb.cells[-1].get("outputs", []):
-        text = out.get("text", "")
-        if "@@GRADE@@" in text:
-            return json.loads(text.split("@@GRADE@@", 1)[1])
-    raise RuntimeError(f"{path}: the grading cell printed nothing (did the kernel die?)")
+    return Path(course_lib.__file__).resolve().parents[1] / "solutions"
 
 
-def grade_paths(paths: list[Path], out_csv: Path) -> list[dict]:
-    """Grade every notebook under ``paths`` (files or folders); write one CSV row per exercise.
+@dataclass
+class Task:
+    student: str
+    assignment: Assignment
+    path: Path | None
+    note: str
 
-    Returns the rows: submission, exercise, status, cases passed/total, points earned/possible.
-    """
-    files: list[Path] = []
-    for p in map(Path, paths):
-        files += sorted(p.rglob("*.ipynb")) if p.is_dir() else [p]
-    files = [f for f in files if ".ipynb_checkpoints" not in f.parts]
+
+def _rows(task: Task, status: str, message: str, **details) -> list[Row]:
+    return [Row(task.student, task.assignment.name, e.name, status, e.points, message,
+                str(task.path or ""), details={"note": task.note, **details})
+            for e in task.assignment.exercises]
+
+
+def _missing_reason(nb, run: Run, name: str) -> tuple[str, str, dict]:
+    pattern = re.compile(rf"^\s*def\s+{re.escape(name)}\s*\(", re.M)
+    for cell in nb.code:
+        if pattern.search(cell.source):
+            info = run.cells.get(cell.index, {})
+            if info.get("status") in ("syntax", "error", "timeout", "killed"):
+                what = {"syntax": "does not compile", "timeout": "ran out of time",
+                        "killed": "stopped the process"}.get(info["status"], "raised an error")
+                return ("error", f"cell {cell.index}, which defines {name}, {what}: "
+                        f"{(info.get('error') or '').strip().splitlines()[-1:]}",
+                        {"traceback": info.get("error") or ""})
+    return "missing", f"the notebook does not define {name}()", {}
+
+
+def grade_task(task: Task, runtime: Runtime, kit: dict[str, Assignment], limits: Limits) -> list[Row]:
+    """Rows for one student's assignment; never raises."""
+    try:
+        return _grade_task(task, runtime, kit, limits)
+    except Exception as exc:  # a grader bug must not lose the student: report it in the rows
+        print(traceback.format_exc(), file=sys.stderr)
+        return _rows(task, "error", f"internal grader error ({type(exc).__name__}: {exc}); "
+                     "please report it")
+
+
+def _grade_task(task: Task, runtime: Runtime, kit: dict[str, Assignment], limits: Limits) -> list[Row]:
+    a = task.assignment
+    if task.path is None:
+        return _rows(task, "missing", task.note)
+    try:
+        nb = read_notebook(task.path)
+    except Unreadable as exc:
+        return _rows(task, "unreadable", f"{task.path.name}: {exc}")
+    from .kit import identify
+
+    found = identify(nb.cells, kit)
+    if found not in (None, a.name):
+        return _rows(task, "wrong-assignment", f"{task.path.name} is notebook {found}, not {a.name}")
+    if not nb.code:
+        return _rows(task, "missing", f"{task.path.name} has no code cells")
+    findings = [str(f) for f in tamper_findings(nb.cells)]
+    bindings = {e.name: answer_binding(nb.cells, e.name, a.check(e)) for e in a.exercises}
+    run = run_submission(runtime, task.path, nb.code, a.check_module, a.exercises, limits)
+    shared = {"note": "; ".join(filter(None, [task.note, nb.note])), "run": run, "notebook": nb,
+              "findings": findings}
     rows = []
-    for f in files:
-        for exercise, verdict in grade_notebook(f).items():
-            earned = verdict["points"] if verdict["status"] == "correct" else 0
-            rows.append({
-                "submission": str(f), "exercise": exercise, "status": verdict["status"],
-                "passed": verdict["passed"], "total": verdict["total"],
-                "points": earned, "possible": verdict["points"],
-            })
-    out_csv = Path(out_csv)
-    with out_csv.open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=["submission", "exercise", "status", "passed",
-                                                "total", "points", "possible"])
-        writer.writeheader()
-        writer.writerows(rows)
+    for e in a.exercises:
+        record = run.exercises.get(e.name)
+        details: dict = {}
+        if run.setup_error:
+            status, message = "error", f"the grader could not run the notebook: {run.setup_error}"[:400]
+        elif record is None:
+            status = "timeout" if run.out_of_time else "error"
+            message = (f"the notebook used up its {limits.deadline:g} s before this exercise was checked"
+                       if run.out_of_time else "the notebook's process stopped before this exercise")
+        elif record.get("lost"):
+            status = "timeout" if record.get("timeout") else "error"
+            message = f"while checking {e.name}, the notebook's process {record['lost']}"
+        elif not record.get("found"):
+            status, message, details = _missing_reason(nb, run, e.name)
+        elif not record.get("callable"):
+            status, message = "error", f"{e.name} is a {record.get('type')}, not a function"
+        else:
+            status, message, details = judge(a.check(e), record, limits.exercise_s)
+            itself = str(record.get("module", "")).startswith("course_lib")
+            reference = bindings[e.name].reference or (
+                f"uses the reference: {e.name} is a course_lib function" if itself else None)
+            if reference and status in ("correct", "incorrect", "error"):
+                status, message = "incorrect", reference
+        if run.violation or findings or run.changes:
+            what = run.violation or (findings + run.changes)[0]
+            more = len(findings) + len(run.changes) - 1
+            message = f"tampering: {what}" + (f" (and {more} more)" if more > 0 else "") + \
+                f"; without it the verdict would be: {status}"
+            status = "tampered"
+        counts = details.get("counts", (0, 0))
+        details["cell"] = bindings[e.name].cell
+        rows.append(Row(task.student, a.name, e.name, status, e.points, message, str(task.path),
+                        counts[0], counts[1], details={**shared, **details, "changes": run.changes}))
     return rows
+
+
+def _assignments(roster: list[Student], kit: dict[str, Assignment],
+                 names: list[str] | None) -> list[Assignment]:
+    if names:
+        unknown = [n for n in names if n not in kit]
+        if unknown:
+            raise ValueError(f"assignment: unknown {unknown}; valid choices: {sorted(kit)}")
+        return [kit[n] for n in names]
+    seen = {normalized(p.name) for s in roster for p in s.files}
+    chosen = [a for name, a in kit.items() if name.lower() in seen]
+    if not chosen:
+        raise ValueError("assignment: no submitted file is named after an assignment of the kit; "
+                         f"pass --assignment with one of {sorted(kit)}")
+    return chosen
+
+
+def grade_class(paths: list[Path], out_csv: Path, *, solutions: Path | None = None,
+                assignments: list[str] | None = None, limits: Limits | None = None,
+                jobs: int | None = None, feedback_dir: Path | None = None,
+                report: Path | None = None, progress: bool = True) -> list[Row]:
+    """Grade every student under ``paths``; write the CSV, feedback files and class report.
+
+    Returns the rows (one per student, assignment and exercise), sorted.
+    """
+    kit = load_kit(solutions or default_solutions())
+    roster = students([Path(p) for p in paths])
+    expected = _assignments(roster, kit, assignments)
+    tasks = [Task(s.name, a, (c := choose(s, a, kit)).path, c.note) for s in roster for a in expected]
+    limits = limits or Limits()
+    out_csv = Path(out_csv)
+    out_csv.parent.mkdir(parents=True, exist_ok=True)
+    rows: list[Row] = []
+    runtime = Runtime()
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(tasks), unit="notebook", desc="grading", file=sys.stderr)
+    try:
+        with out_csv.open("w", newline="") as fh:
+            writer = csv.DictWriter(fh, fieldnames=FIELDS)
+            writer.writeheader()
+            fh.flush()
+            with ThreadPoolExecutor(max_workers=jobs or os.cpu_count() or 1) as pool:
+                futures = [pool.submit(grade_task, t, runtime, kit, limits) for t in tasks]
+                try:
+                    for future in as_completed(futures):
+                        done = future.result()
+                        rows += done
+                        writer.writerows(r.csv() for r in done)
+                        fh.flush()
+                        if bar:
+                            bar.update()
+                except BaseException:
+                    for f in futures:
+                        f.cancel()
+                    raise
+    finally:
+        if bar:
+            bar.close()
+        runtime.cleanup()
+    order = {a.name: i for i, a in enumerate(expected)}
+    ex_order = {(a.name, e.name): i for a in expected for i, e in enumerate(a.exercises)}
+    rows.sort(key=lambda r: (r.student, order[r.assignment], ex_order[(r.assignment, r.exercise)]))
+    tmp = out_csv.with_name(out_csv.name + ".tmp")
+    with tmp.open("w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=FIELDS)
+        writer.writeheader()
+        writer.writerows(r.csv() for r in rows)
+    os.replace(tmp, out_csv)
+    if feedback_dir is not None:
+        from .feedback import write_feedback
+
+        write_feedback(rows, Path(feedback_dir))
+    if report is not None:
+        from .report import write_report
+
+        write_report(rows, Path(report), feedback_dir=feedback_dir)
+    return rows
+
+
+def grade_paths(paths: list[Path], out_csv: Path, **options) -> list[dict]:
+    """:func:`grade_class` returning plain CSV rows (dicts)."""
+    return [r.csv() for r in grade_class(paths, out_csv, **options)]
+
+
+def grade_notebook(path: Path, assignment: str | None = None, **options) -> list[dict]:
+    """Grade one notebook file (its assignment found from its name or content)."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        return grade_paths([Path(path)], Path(tmp) / "grades.csv", progress=False,
+                           assignments=[assignment] if assignment else None, **options)
