@@ -1,17 +1,19 @@
-"""Checks for notebook 07, springs and mass-spring systems."""
+"""Checks for notebook 07, springs and mass-spring systems.
+
+Every exercise names the course_lib function it must not call (``@exercise(reference=...)``,
+see :mod:`course_lib.instructor.policy`): an answer that calls it earns nothing.
+"""
 
 from __future__ import annotations
-
-import functools
 
 import numpy as np
 
 from .. import springs
-from ..lessons import nb07_springs
+from ..lessons import nb07_springs as lesson
 from . import Checker, exercise
+from .tolerance import blown_up, precision_rtol
 
 _RNG_SEED = 707
-_measured_dt_max = functools.lru_cache(maxsize=8)(nb07_springs.spring_dt_max)
 
 
 def _cases():
@@ -21,7 +23,7 @@ def _cases():
         yield x1, x2, float(rng.uniform(5.0, 50.0)), float(rng.uniform(0.3, 1.5))
 
 
-@exercise
+@exercise(reference=(springs.spring_force_pair, springs.SpringNetwork))
 def spring_force(ck: Checker, func) -> None:
     """``func(x1, x2, k, rest)``: Hooke force on particle 1 of a spring in 3D."""
     for n, (x1, x2, k, rest) in enumerate(_cases()):
@@ -29,15 +31,20 @@ def spring_force(ck: Checker, func) -> None:
         d = x1 - x2
         length = np.linalg.norm(d)
         u = d / length
-        got = np.asarray(func(x1.copy(), x2.copy(), k, rest), dtype=float)
-        ck.close(got, expected, f"case {n}: force on particle 1", rtol=1e-9, atol=1e-12, mistakes={
+        got = func(x1.copy(), x2.copy(), k, rest)
+        if blown_up(ck, got, f"case {n}: force on particle 1", run=False):
+            continue
+        ck.close(got, expected, f"case {n}: force on particle 1", rtol=precision_rtol(got, 1e-9),
+                 atol=1e-12, mistakes={
             "sign error: the force on particle 1 points from x1 towards x2 when the spring is "
             "stretched, F1 = -k (|d| - L) d/|d| with d = x1 - x2": -expected,
             "forgot to normalise: multiply by the unit vector d/|d|, not by d itself":
                 -k * (length - rest) * d,
             "used the rest length L instead of the stretch |d| - L": -k * rest * u,
             "used the length |d| instead of the stretch |d| - L": -k * length * u,
-        })
+            "the stretch is |d| - L, a scalar: subtract L from the length, not from the "
+            "vector d": -k * (d - rest),
+        }, hint="d = x1 - x2; F1 = -k (|d| - L) d / |d|")
     # Force = -gradient of the spring energy, by central finite differences.
     x1, x2, k, rest = next(_cases())
 
@@ -46,40 +53,107 @@ def spring_force(ck: Checker, func) -> None:
 
     h = 1e-6
     grad = np.array([(energy(x1 + h * e) - energy(x1 - h * e)) / (2 * h) for e in np.eye(3)])
-    got = np.asarray(func(x1.copy(), x2.copy(), k, rest), dtype=float)
-    ck.close(got, -grad, "F1 = -∂E/∂x1 (finite differences of E = ½ k (|x1 - x2| - L)²)",
-             rtol=1e-6, atol=1e-8)
-    f1 = np.asarray(func(x1.copy(), x2.copy(), k, rest), dtype=float)
-    f2 = np.asarray(func(x2.copy(), x1.copy(), k, rest), dtype=float)
-    ck.close(f1 + f2, np.zeros(3), "momentum: F1 + F2 = 0", atol=1e-12,
+    ck.close(func(x1.copy(), x2.copy(), k, rest), -grad,
+             "F1 = -∂E/∂x1 (finite differences of E = ½ k (|x1 - x2| - L)²)", rtol=1e-6, atol=1e-8)
+    f1 = func(x1.copy(), x2.copy(), k, rest)
+    f2 = func(x2.copy(), x1.copy(), k, rest)
+    # round-off of the answer's precision, relative to the forces and torques involved
+    scale = precision_rtol(f1, 1e-14) * 10 * (1.0 + np.abs(f1).max()) * (1.0 + np.abs(x1).max())
+    f1, f2 = np.asarray(f1, dtype=float), np.asarray(f2, dtype=float)
+    ck.close(f1 + f2, np.zeros(3), "momentum: F1 + F2 = 0", atol=scale,
              hint="swap the arguments: the force on particle 2 must be exactly -F1")
     ck.close(np.cross(x1, f1) + np.cross(x2, f2), np.zeros(3),
-             "angular momentum: x1 × F1 + x2 × F2 = 0", atol=1e-10,
+             "angular momentum: x1 × F1 + x2 × F2 = 0", atol=scale,
              hint="the force must act along the line x1 - x2")
 
 
-@exercise
-def predict_dt_max(ck: Checker, func) -> None:
-    """``func(k, m)``: largest stable symplectic Euler step for a mass on a spring."""
-    for k, m in [(1.0, 1.0), (16.0, 1.0), (50.0, 0.2), (4.0, 9.0)]:
-        exact = 2.0 * np.sqrt(m / k)
-        ck.close(func(k, m), exact, f"k = {k:g} N/m, m = {m:g} kg", rtol=1e-9, mistakes={
-            "missing factor 2: symplectic Euler is stable for ω dt <= 2, so dt_max = 2/ω": np.sqrt(m / k),
-            "inverted: ω = √(k/m), and dt_max = 2/ω = 2 √(m/k)": 2.0 * np.sqrt(k / m),
-            "you returned 2/ω²; the limit is 2/ω with ω = √(k/m)": 2.0 * m / k,
-        })
-    measured = _measured_dt_max(16.0, 1.0)
-    ck.close(func(16.0, 1.0), measured, f"agrees with the step measured by bisection ({measured:.5f} s)",
-             rtol=1e-2)
+@exercise(reference=(lesson.symplectic_euler_limit, lesson.damped_dt_limit))
+def damped_dt_max(ck: Checker, func) -> None:
+    """``func(k, m, c)``: largest stable symplectic Euler step of a damped spring."""
+    for k, m, c in [(10.0, 1.0, 0.0), (10.0, 1.0, 2.0), (16.0, 1.0, 8.0), (50.0, 0.2, 0.3),
+                    (4.0, 9.0, 40.0)]:
+        measured = lesson.damped_dt_limit("symplectic_euler", k, m, c)
+        omega, gamma = np.sqrt(k / m), c / m
+        got = func(k, m, c)
+        what = f"k = {k:g} N/m, m = {m:g} kg, c = {c:g} N s/m (measured {measured:.6f} s)"
+        if blown_up(ck, got, what, run=False):
+            continue
+        ck.close(got, measured, what, rtol=precision_rtol(got, 1e-9), mistakes={
+                     "that is the undamped limit 2/ω: damping moves it (ω² dt² + 2 (c/m) dt < 4)":
+                         2.0 / omega,
+                     "you forgot to divide c by m: the condition uses γ = c/m":
+                         4.0 / (c + np.sqrt(c**2 + 4 * omega**2)),
+                     "wrong root: of the two roots of ω² dt² + 2γ dt - 4 = 0 take the positive one":
+                         (gamma + np.sqrt(gamma**2 + 4 * omega**2)) / omega**2,
+                     "the discriminant of ω² dt² + 2γ dt - 4 is 4γ² + 16ω²: its square root "
+                     "is 2√(γ² + 4ω²)": (-gamma + np.sqrt(gamma**2 + 16 * omega**2)) / omega**2,
+                     "only the damping part: 2/γ is the limit for damping alone":
+                         2.0 / gamma if gamma else np.inf,
+                 }, hint="solve ω² dt² + 2 γ dt - 4 = 0 (γ = c/m) for its positive root")
 
 
-@exercise
-def critical_damping(ck: Checker, func) -> None:
-    """``func(k, m)``: the critical damping coefficient of a mass on a spring."""
-    for k, m in [(10.0, 1.0), (100.0, 0.5), (2.0, 8.0)]:
-        ck.close(func(k, m), springs.critical_damping(k, m), f"k = {k:g} N/m, m = {m:g} kg",
-                 rtol=1e-9, mistakes={
-                     "missing factor 2: c = 2 √(k m)": np.sqrt(k * m),
-                     "that is 2ω = 2 √(k/m) (units 1/s); c has units N s/m = kg/s: c = 2 m ω":
-                         2 * np.sqrt(k / m),
-                 })
+class _Indices(np.ndarray):
+    """Spring end indices that notice being looped over (one spring at a time)."""
+
+    looped = False
+
+    def __iter__(self):
+        _Indices.looped = True
+        return super().__iter__()
+
+    def __getitem__(self, key):
+        if isinstance(key, int | np.integer):
+            _Indices.looped = True
+        return super().__getitem__(key)
+
+
+def _network_case(seed: int, n: int, m: int, dim: int = 3):
+    rng = np.random.default_rng(seed)
+    i = rng.integers(0, n, m)
+    j = (i + rng.integers(1, n, m)) % n                 # i != j, many springs per particle
+    i[-1], j[-1] = i[0], j[0]                           # two springs on the same pair
+    x, v = rng.normal(size=(n, dim)), rng.normal(size=(n, dim))
+    return x, v, i, j, rng.uniform(0.5, 1.5, m), rng.uniform(5.0, 50.0, m), rng.uniform(0.0, 2.0, m)
+
+
+@exercise(reference=(springs.SpringNetwork, springs.spring_force_pair))
+def network_forces(ck: Checker, func) -> None:
+    """``func(x, v, i, j, rest, k, c)``: net force of a damped spring network, vectorized."""
+    for what, (x, v, i, j, rest, k, c) in [
+            ("6 particles, 15 springs in 3D", _network_case(1, 6, 15)),
+            ("7 particles, 24 springs in 2D", _network_case(2, 7, 24, dim=2))]:
+        net = springs.SpringNetwork(i, j, rest, k, c, x.shape[0])
+        expected = net.forces(x, v)
+        d = x[i] - x[j]
+        length = np.linalg.norm(d, axis=1)
+        u = d / length[:, None]
+        rate = np.einsum("md,md->m", v[i] - v[j], u)
+        f = -(k * (length - rest) + c * rate)[:, None] * u
+        buffered = np.zeros_like(x)
+        buffered[i] += f
+        buffered[j] -= f
+        only_i = np.zeros_like(x)
+        np.add.at(only_i, i, f)
+        unprojected = np.zeros_like(x)
+        f_bad = -(k * (length - rest))[:, None] * u - c[:, None] * (v[i] - v[j])
+        np.add.at(unprojected, i, f_bad)
+        np.add.at(unprojected, j, -f_bad)
+        no_damping = springs.SpringNetwork(i, j, rest, k, 0.0, x.shape[0]).forces(x)
+        _Indices.looped = False
+        got = func(x.copy(), v.copy(), i.view(_Indices), j.view(_Indices), rest.copy(),
+                   k.copy(), c.copy())
+        if _Indices.looped:
+            ck.expect(False, what, "your function loops over the springs one at a time",
+                      hint="work on all springs at once: d = x[i] - x[j] gives every spring's "
+                           "vector; np.add.at (or np.bincount) adds them onto particles")
+            continue
+        if blown_up(ck, got, what, run=False):
+            continue
+        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12, mistakes={
+            "F[i] += f skips repeated indices (numpy buffers the fancy-index add): a particle "
+            "with several springs gets only one of them. Use np.add.at(F, i, f)": buffered,
+            "each spring pushes both ends: add f at i AND -f at j": only_i,
+            "damp only the stretching rate: c ((v_i - v_j)·u) u, not c (v_i - v_j)": unprojected,
+            "you left out the damping term c ((v_i - v_j)·u) u": no_damping,
+            "sign error: a stretched spring pulls i towards j": -expected,
+        }, hint="per spring: f = -[k (ℓ - L) + c (v_i - v_j)·u] u on i, -f on j")

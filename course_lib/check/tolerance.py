@@ -1,0 +1,58 @@
+"""Judging helpers shared by the checks of notebooks 05-08.
+
+- :func:`precision_rtol`: a tolerance that follows the precision of the answer, so that a
+  right answer computed in float32 (seven digits) is accepted while a wrong formula,
+  off by a factor, is not.
+- :func:`blown_up`: report "your run blew up" (with the step) instead of printing a row
+  of ``nan`` as the answer.
+
+Check layer: imports NumPy and the shared :class:`~course_lib.check.Checker` only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import Checker
+
+
+def precision_rtol(answer, rtol: float) -> float:
+    """``rtol``, widened to a few units in the last place of ``answer``'s float dtype.
+
+    >>> precision_rtol(np.float32(1.4142135), 1e-9) > 1e-7
+    True
+    >>> precision_rtol(1.4142135623730951, 1e-9)
+    1e-09
+    """
+    try:
+        dtype = np.asarray(answer).dtype
+    except Exception:  # an answer numpy cannot read: Checker.close will say so
+        return rtol
+    if np.issubdtype(dtype, np.floating) and np.finfo(dtype).eps > 1e-15:
+        return max(rtol, 16.0 * float(np.finfo(dtype).eps))
+    return rtol
+
+
+def blown_up(ck: Checker, answer, what: str, *, run: bool = True) -> bool:
+    """Record a failed case when ``answer`` holds NaN or inf, and return True then.
+
+    ``run=True`` words it for a simulation (rows are steps: "your run blew up from step
+    k on"); ``run=False`` for a computed value ("your function returned NaN or inf").
+    """
+    try:
+        a = np.asarray(answer, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    if a.size == 0 or np.all(np.isfinite(a)):
+        return False
+    if not run or a.ndim == 0:
+        ck.expect(False, what, "your function returned NaN or inf",
+                  hint="look for a division by zero (0/0 gives NaN, e.g. a particle's "
+                       "distance to itself) or an overflow")
+        return True
+    rows = np.isfinite(a.reshape(a.shape[0], -1)).all(axis=1)
+    step = int(np.argmin(rows))
+    ck.expect(False, what, f"your run blew up: its values are NaN or inf from step {step} on",
+              hint="a run that explodes usually has a sign error in the update, or uses "
+                   "an acceleration or time from the wrong point of the step")
+    return True

@@ -1,0 +1,169 @@
+"""Notebook 07 (springs): the drawing of a spring run and the spring widget.
+
+:class:`SpringPlot` draws a :class:`~course_lib.lessons.nb07_springs.SpringRun` in three
+panels (stretch beside the exact curve, the error on a log scale, the energy on a log
+scale) and redraws in place: a new result updates the data of the same artists, which
+keeps a widget update within about 100 ms. Long runs are thinned for drawing only (every
+``s``-th step, said in the legend); every step is computed. A run that blows up is drawn
+up to its last finite state, and its growth shows on the log panels.
+
+Lesson layer: imports the lesson's compute module, the plotting style and the widget views.
+"""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.ticker import LogLocator, MaxNLocator, NullLocator
+
+from ..integrators import METHODS
+from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS
+from .nb07_springs import SpringRun, run_spring
+
+#: Size of the figure (in) and the most points drawn per curve.
+FIGSIZE = (10.0, 3.5)
+MAX_POINTS = 1500
+
+
+class SpringPlot:
+    """The spring widget's figure; call it with a :class:`SpringRun` to (re)draw.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into; by default a new one, released from pyplot (the widget
+        displays it itself).
+    """
+
+    def __init__(self, fig=None):
+        if fig is None:
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+            fig = plt.figure(figsize=FIGSIZE)
+            plt.close(fig)
+            FigureCanvasAgg(fig)
+        self.fig = fig
+        self.ax_x, self.ax_e, self.ax_E = fig.subplots(1, 3)
+        fig.subplots_adjust(left=0.085, right=0.985, top=0.74, bottom=0.15, wspace=0.34)
+        ax_x, ax_e, ax_E = self.ax_x, self.ax_e, self.ax_E
+        self.exact_x, = ax_x.plot([], [], **EXACT_STYLE, label="exact")
+        self.num_x, = ax_x.plot([], [], ".-", ms=3, lw=1)
+        self.blow_x, = ax_x.plot([], [], "X", color="black", ms=9, label="last finite state")
+        self.num_e, = ax_e.plot([], [], lw=1.2)
+        self.exact_E, = ax_E.plot([], [], **EXACT_STYLE, label="exact")
+        self.num_E, = ax_E.plot([], [], lw=1.2)
+        ax_x.set(xlabel="t (s)", ylabel="stretch x (m)")
+        ax_e.set(xlabel="t (s)", ylabel="error |x − exact| (m)", yscale="log")
+        ax_E.set(xlabel="t (s)", ylabel="energy (J)")
+        # Few ticks and no minor tick labels: drawing text dominates a redraw.
+        for ax in (ax_x, ax_e, ax_E):
+            ax.xaxis.set_major_locator(MaxNLocator(4))
+        ax_e.yaxis.set_major_locator(LogLocator(numticks=4))
+        ax_e.yaxis.set_minor_locator(NullLocator())
+        self.title = fig.text(0.5, 0.975, "", ha="center", va="top", fontsize=10.5)
+        self.subtitle = fig.text(0.5, 0.905, "", ha="center", va="top", fontsize=9.5)
+
+    def __call__(self, run: SpringRun):
+        p = run.params
+        method, label = p["method"], METHOD_LABELS[p["method"]]
+        n = run.t.size
+        stride = max(1, int(np.ceil(n / MAX_POINTS)))
+        shown = slice(0, None, stride)
+        last = run.blowup_step - 1 if run.blowup_step is not None else n - 1
+        if stride > 1:   # always include the last finite state
+            idx = np.r_[np.arange(0, last + 1, stride), last]
+        else:
+            idx = np.arange(n)
+        color = METHOD_COLORS[method]
+        thinned = f" (every {stride}th step drawn)" if stride > 1 else ""
+        a = abs(float(run.exact[0])) or 1.0
+
+        self.exact_x.set_data(run.t_fine, run.exact_fine)
+        self.num_x.set_data(run.t[idx], run.x[idx])
+        self.num_x.set(color=color, label=label + thinned,
+                       marker="." if n <= 400 else "None")
+        top = float(np.nanmax(np.abs(run.x[: last + 1])))
+        if run.blowup_step is None:
+            self.blow_x.set_data([], [])
+        else:
+            self.blow_x.set_data([run.t[last]], [run.x[last]])
+        if top > 10 * a:   # growth: a symmetric log scale keeps both the start and the end
+            self.ax_x.set_yscale("symlog", linthresh=a)
+            self.ax_x.set_ylim(-1.5 * top, 1.5 * top)
+        else:
+            top = max(top, float(np.max(np.abs(run.exact_fine))))
+            self.ax_x.set_yscale("linear")
+            self.ax_x.yaxis.set_major_locator(MaxNLocator(5))
+            self.ax_x.set_ylim(-1.15 * top, 1.3 * top)
+        self.ax_x.set_xlim(0.0, run.t[-1])
+        handles = [self.exact_x, self.num_x] + ([self.blow_x] if run.blowup_step else [])
+        self.ax_x.legend(handles=handles, loc="lower left", bbox_to_anchor=(0.0, 1.0),
+                         ncol=3, fontsize=8.5, borderaxespad=0.2)
+
+        err = run.error[idx]
+        self.num_e.set_data(run.t[idx], np.where(err > 0, err, np.nan))   # 0 at t = 0
+        self.num_e.set_color(color)
+        positive = err[np.isfinite(err) & (err > 0)]
+        if positive.size:
+            self.ax_e.set_ylim(max(1e-16, 0.3 * float(positive.min())),
+                               3.0 * float(positive.max()))
+        self.ax_e.set_xlim(0.0, run.t[-1])
+
+        self.exact_E.set_data(run.t[shown], np.maximum(run.exact_energy[shown], 1e-300))
+        self.num_E.set_data(run.t[idx], run.energy[idx])
+        self.num_E.set(color=color, label=label)
+        E0 = float(run.exact_energy[0])
+        E_all = np.r_[run.energy[idx], run.exact_energy[shown]]
+        E_all = E_all[np.isfinite(E_all) & (E_all > 0)]
+        lo, hi = float(E_all.min()), float(E_all.max())
+        if hi > 10 * lo:     # growth or decay: log scale
+            self.ax_E.set_yscale("log")
+            self.ax_E.yaxis.set_major_locator(LogLocator(numticks=4))
+            self.ax_E.yaxis.set_minor_locator(NullLocator())
+            self.ax_E.set_ylim(max(0.3 * lo, 1e-8 * E0), 3.0 * hi)
+        else:                # a band around the exact energy: linear scale shows it
+            self.ax_E.set_yscale("linear")
+            self.ax_E.yaxis.set_major_locator(MaxNLocator(4))
+            pad = max(0.15 * (hi - lo), 0.02 * hi)
+            self.ax_E.set_ylim(lo - pad, hi + 2 * pad)
+        self.ax_E.set_xlim(0.0, run.t[-1])
+
+        self.title.set_text(f"{label}, k = {p['k']:.3g} N/m, c = {p['c']:.3g} N s/m, "
+                            f"m = {p['m']:.3g} kg, dt = {p['dt']:.3g} s: {run.message}")
+        self.subtitle.set_text(f"with this damping, {label} is {run.limit_text}"
+                               f"   ({n - 1} steps)")
+        return self.fig
+
+
+def draw_spring_run(run: SpringRun, fig=None):
+    """Draw one run in a new pyplot figure (or ``fig``) and return the figure.
+
+    For static pictures in a notebook: ``draw_spring_run(run_spring(...)); plt.show()``.
+    """
+    if fig is None:
+        fig = plt.figure(figsize=FIGSIZE)
+    return SpringPlot(fig)(run)
+
+
+def spring_explorer(k: float = 10.0, c: float = 0.0, dt: float = 0.05,
+                    method: str = "symplectic_euler"):
+    """The spring widget: sliders for ``k``, ``c`` and ``dt`` and a method menu over
+    :func:`~course_lib.lessons.nb07_springs.run_spring`, drawn by one :class:`SpringPlot`.
+
+    Returns a :class:`~course_lib.lessons.busy_view.BusyExplorerView`; ``view.result`` is
+    the latest :class:`SpringRun`.
+    """
+    import ipywidgets as w
+
+    from ..widgets import log_slider
+    from .busy_view import BusyExplorerView
+
+    controls = {
+        "k": log_slider("k (N/m)", k, 1.0, 1e3),
+        "c": w.FloatSlider(value=c, min=0.0, max=20.0, step=0.1, description="c (N s/m)",
+                           continuous_update=False, style={"description_width": "initial"}),
+        "dt": log_slider("dt (s)", dt, 1e-3, 1.0),
+        "method": w.Dropdown(options=[(METHOD_LABELS[m], m) for m in METHODS], value=method,
+                             description="method"),
+    }
+    return BusyExplorerView(run_spring, SpringPlot(), controls)
