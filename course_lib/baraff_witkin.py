@@ -117,34 +117,39 @@ class BaraffWitkin:
         self.info: StepInfo | None = None
         self._dv: np.ndarray | None = None
         self._t = 0.0
+        self._d: np.ndarray | None = None
 
     # --- the linear system ------------------------------------------------------------
 
     def _coefficients(self, x, v, h: float):
-        """Force at the start, and the per-spring factors ``β, γ`` of the matrix."""
+        """Force at the start, and the per-slot factors ``β, γ`` of the matrix."""
         net = self.network
-        d, inv, a = net.spring_coefficients(x, v)
-        force = -net.scatter(a[:, None] * d)
-        self._d = d.copy()                         # the work arrays are reused by later calls
-        stretch = 1.0 - net.rest * inv             # (1 - L/ℓ); 1 where the ends coincide
+        d, inv, a = net.slot_coefficients(x, v)   # per slot of net.layout, d is (dim, S)
+        if self._d is None or self._d.shape != d.shape:
+            self._d, self._w, self._prod = np.empty_like(d), np.empty_like(d), np.empty_like(d)
+            self._along = np.empty(d.shape[1])
+        np.copyto(self._d, d)                      # the network's work arrays get reused
+        force = -net.slot_sums(np.multiply(a, d, out=self._w))
+        stretch = 1.0 - net.slot_rest * inv        # (1 - L/ℓ); 1 where the ends coincide
         if self.definite:
             np.maximum(stretch, 0.0, out=stretch)
-        geometric = net.k * stretch                # stiffness across the spring
-        along = net.k - geometric                  # extra stiffness along it: k L/ℓ
+        geometric = net.slot_k * stretch           # stiffness across the spring
+        along = net.slot_k - geometric             # extra stiffness along it: k L/ℓ
         inv2 = inv * inv
         self._beta = h * h * geometric
-        self._gamma = (h * net.c + h * h * along) * inv2
+        self._gamma = (h * net.slot_c + h * h * along) * inv2
         self._gamma_x = h * h * along * inv2       # the ∂F/∂x part alone, for the right side
         return force
 
     def _springs_apply(self, p: np.ndarray, gamma: np.ndarray) -> np.ndarray:
-        """``Dᵀ[β w + γ (w·d) d]`` with ``w = p_i - p_j``: the springs' part of ``A p``."""
-        w = self.network.gather(p)
-        along = np.einsum("md,md->m", w, self._d)
-        along *= gamma
-        w *= self._beta[:, None]
-        w += along[:, None] * self._d
-        return self.network.scatter(w)
+        """``Dᵀ[β w + γ (w·d) d]`` with ``w = p_lo - p_hi``: the springs' part of ``A p``."""
+        w = self.network.slot_differences(p, out=self._w)   # (dim, S)
+        np.multiply(w, self._d, out=self._prod)
+        np.matmul(np.ones(w.shape[0]), self._prod, out=self._along)   # w·d
+        self._along *= gamma
+        w *= self._beta
+        w += np.multiply(self._d, self._along, out=self._prod)
+        return self.network.slot_sums(w)
 
     def system(self, x, v, dt: float):
         """The filtered system of one step at ``(x, v)``: ``(A, b, diagonal)``.
@@ -172,8 +177,8 @@ class BaraffWitkin:
             out += p_flat.reshape(n, dim) * ~free  # ... + (I - S) p
             return out.ravel()
 
-        per_spring = self._beta[:, None] + self._gamma[:, None] * self._d * self._d
-        diagonal = np.where(free, m + self.network.scatter(per_spring, same_sign=True), 1.0)
+        per_spring = self._beta + self._gamma * self._d * self._d
+        diagonal = np.where(free, m + self.network.slot_sums(per_spring, same_sign=True), 1.0)
         A = spla.LinearOperator((n * dim, n * dim), matvec=matvec, dtype=float)
         return A, b.ravel(), diagonal.ravel()
 

@@ -63,7 +63,7 @@ def assemble(network: SpringNetwork, blocks: np.ndarray) -> sp.csr_matrix:
 
 def _geometry(network: SpringNetwork, x):
     d, inv, _ = network.spring_coefficients(x)
-    u = d * inv[:, None]
+    u = d * inv[:, None]                           # unit vectors, (M, d)
     return u, inv, u[:, :, None] * u[:, None, :], np.eye(d.shape[1])
 
 

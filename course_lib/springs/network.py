@@ -15,12 +15,15 @@ Where the two ends coincide (``ℓ = 0``) the direction ``u`` is undefined; we t
 exact (its force ``-k d`` vanishes with ``d``); for ``L > 0`` it is our choice of a finite
 answer (the true force jumps there: any direction, magnitude ``k L``).
 
-Speed: :meth:`SpringNetwork.forces` is the version students read *and* the fast one. It
-reuses preallocated, contiguous work arrays (fresh large arrays on every call cost page
-faults), gathers both ends with ``np.take`` and adds the spring forces onto particles with
-a sparse incidence matrix: a few whole-array operations, no Python loop over springs.
+Speed: :meth:`SpringNetwork.forces` is the version students read *and* the fast one: a
+few whole-array operations, no Python loop over springs. It reuses preallocated work
+arrays (a fresh large array on every call costs page faults), and a
+:class:`~course_lib.springs.layout.SpringLayout` decides where each spring's numbers live:
+chains and grids as contiguous *bands* of springs a fixed index offset apart (shifted
+slices, no gather), anything else gathered with ``np.take`` and summed with a sparse
+incidence matrix.
 
-Core module: imports NumPy and SciPy only.
+Core module: imports NumPy and :mod:`course_lib.springs.layout` only.
 """
 
 from __future__ import annotations
@@ -28,7 +31,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
+
+from .layout import SpringLayout
 
 
 def _index_array(name: str, value) -> np.ndarray:
@@ -54,32 +58,26 @@ def _kind_array(kind, m: int) -> np.ndarray:
 
 
 class _Work:
-    """Preallocated, contiguous arrays for one force evaluation in ``dim`` dimensions.
+    """Preallocated work arrays for one evaluation in ``dim`` dimensions.
 
-    ``state``, ``end_i``, ``end_j`` and ``diff`` come in two widths over the same memory:
-    ``dim`` columns (positions only) and ``2 dim`` (positions and velocities side by side,
-    so one gather fetches both).
+    Per-slot vectors are component-major, shape ``(dim, S)``: one contiguous row per
+    component, so every operation runs over long rows (an ``(S, 3)`` layout would make
+    NumPy loop over rows of three).
     """
 
-    def __init__(self, net: SpringNetwork, dim: int):
-        m, n = net.n_springs, net.n_particles
-        self.dim = dim
-
-        def widths(rows):
-            flat = np.empty(rows * 2 * dim)
-            return {c: flat[: rows * c].reshape(rows, c) for c in (dim, 2 * dim)}
-
-        self.state = widths(n)                     # [x | v], one row per particle
-        self.end_i = widths(m)                     # [x_i | v_i] of every spring
-        self.end_j = widths(m)
-        self.diff = widths(m)                      # [d | v_i - v_j]
-        self.prod = np.empty((m, dim))
+    def __init__(self, layout: SpringLayout, dim: int):
+        s, g = layout.n_slots, layout.lo.size
+        self.rows = np.empty((dim, layout.n))      # x (or v) transposed: one row per component
+        self.total = np.empty((dim, layout.n))     # per-particle sums, transposed
+        self.ends = (np.empty((dim, g)), np.empty((dim, g)))
+        self.d = np.empty((dim, s))                # x_lo - x_hi in every slot
+        self.rel = np.empty((dim, s))              # v_lo - v_hi
+        self.f = np.empty((dim, s))
         self.ones = np.ones(dim)
-        self.length = np.empty(m)
-        self.inv = np.empty(m)                     # 1/ℓ, or 0 where the ends coincide
-        self.coef = np.empty(m)                    # a: force on i is -a d
-        self.rate = np.empty(m)                    # (v_i - v_j)·d
-        self.f = np.empty((m, dim))
+        self.length = np.empty(s)
+        self.inv = np.empty(s)                     # 1/ℓ, or 0 where the ends coincide
+        self.coef = np.empty(s)                    # a: force on the lo end is -a d
+        self.rate = np.empty(s)                    # (v_lo - v_hi)·d
 
 
 @dataclass
@@ -116,7 +114,7 @@ class SpringNetwork:
     c: np.ndarray
     n_particles: int
     kind: np.ndarray | None = None
-    _incidence: sp.csr_matrix = field(init=False, repr=False, compare=False)
+    layout: SpringLayout = field(init=False, repr=False, compare=False)
     _work: dict = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -146,13 +144,10 @@ class SpringNetwork:
         if m and np.any(self.i == self.j):
             raise ValueError("a spring must join two different particles (i != j)")
         self.kind = _kind_array(self.kind, m)
-        # Incidence matrix Dᵀ (n_particles × M): +1 at (i_s, s), -1 at (j_s, s). The net
-        # force on the particles is Dᵀ @ (force on the i end of each spring).
-        cols = np.arange(m)
-        self._incidence = sp.csr_matrix(
-            (np.r_[np.ones(m), -np.ones(m)], (np.r_[self.i, self.j], np.r_[cols, cols])),
-            shape=(self.n_particles, m),
-        )
+        self.layout = SpringLayout(self.i, self.j, self.n_particles)
+        # Parameters per slot (0 in unused slots of a band: no force there).
+        self.slot_rest, self.slot_k, self.slot_c = (
+            self.layout.to_slots(a) for a in (self.rest, self.k, self.c))
         self._work = {}
 
     @property
@@ -194,42 +189,69 @@ class SpringNetwork:
             raise ValueError(f"{name} must have shape ({self.n_particles}, d), got {x.shape}")
         return x
 
-    def spring_coefficients(self, x, v=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Per-spring ``(d, 1/ℓ, a)``: the difference ``x_i - x_j`` (M, d), the inverse
-        length (0 where the ends coincide) and the force factor ``a`` (force on i is
-        ``-a d``). Views of work arrays, overwritten by the next call."""
+    def _workspace(self, dim: int) -> _Work:
+        if dim not in self._work:
+            self._work[dim] = _Work(self.layout, dim)
+        return self._work[dim]
+
+    def slot_differences(self, p, out: np.ndarray | None = None) -> np.ndarray:
+        """``p_lo - p_hi`` in every slot of :attr:`layout` for per-particle values ``p``
+        of shape ``(N, d)``; returned component-major, shape ``(d, S)``."""
+        p = self._check("p", p)
+        w = self._workspace(p.shape[1])
+        np.copyto(w.rows, p.T)
+        if out is None:
+            out = np.empty((p.shape[1], self.layout.n_slots))
+        return self.layout.differences(w.rows, out, w.ends)
+
+    def slot_sums(self, f, same_sign: bool = False, out: np.ndarray | None = None) -> np.ndarray:
+        """Per-particle sums ``(N, d)`` of per-slot vectors ``f`` of shape ``(d, S)``:
+        ``+f`` at each ``lo`` end and ``-f`` at each ``hi`` end (``+f`` at both with
+        ``same_sign=True``)."""
+        w = self._workspace(f.shape[0])
+        total = self.layout.accumulate(f, w.total, same_sign)
+        if out is None:
+            return total.T.copy()
+        np.copyto(out, total.T)
+        return out
+
+    def slot_coefficients(self, x, v=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per slot of :attr:`layout`: ``d = x_lo - x_hi`` (component-major, ``(dim, S)``),
+        the inverse length ``1/ℓ`` (0 where the ends coincide) and the factor ``a`` of the
+        force ``-a d`` on the ``lo`` end. Work arrays, overwritten by the next call."""
         x = self._check("x", x)
-        dim = x.shape[1]
-        w = self._work.get(dim) or self._work.setdefault(dim, _Work(self, dim))
-        damped = v is not None and bool(np.any(self.c))
-        cols = 2 * dim if damped else dim
-        state, end_i, end_j, diff = w.state[cols], w.end_i[cols], w.end_j[cols], w.diff[cols]
-        state[:, :dim] = x
-        if damped:
-            state[:, dim:] = self._check("v", v)
-        # Gather both ends of every spring (positions, and velocities when damped).
-        np.take(state, self.i, axis=0, out=end_i, mode="clip")
-        np.take(state, self.j, axis=0, out=end_j, mode="clip")
-        np.subtract(end_i, end_j, out=diff)
-        d = diff[:, :dim]
+        w = self._workspace(x.shape[1])
+        d = self.slot_differences(x, out=w.d)
         # ℓ = |d| and 1/ℓ; where ℓ = 0 the direction is undefined and we take 1/ℓ = 0.
-        np.multiply(d, d, out=w.prod)
-        np.matmul(w.prod, w.ones, out=w.length)
+        np.multiply(d, d, out=w.f)
+        np.matmul(w.ones, w.f, out=w.length)       # sum over the components
         np.sqrt(w.length, out=w.length)
-        np.divide(1.0, w.length, out=w.inv, where=w.length > 0.0)
-        w.inv[w.length == 0.0] = 0.0
-        # a = k (ℓ - L) / ℓ  [+ c (v_i - v_j)·d / ℓ²]
-        np.subtract(w.length, self.rest, out=w.coef)
-        w.coef *= self.k
+        with np.errstate(divide="ignore"):
+            np.divide(1.0, w.length, out=w.inv)
+        if not w.length.all():
+            w.inv[w.length == 0.0] = 0.0
+        # a = k (ℓ - L) / ℓ
+        np.subtract(w.length, self.slot_rest, out=w.coef)
+        w.coef *= self.slot_k
         w.coef *= w.inv
-        if damped:
-            np.multiply(diff[:, dim:], d, out=w.prod)
-            np.matmul(w.prod, w.ones, out=w.rate)
+        if v is not None and self.c.any():
+            # + c (v_lo - v_hi)·d / ℓ²: damping of the stretching rate only
+            rel = self.slot_differences(self._check("v", v), out=w.rel)
+            np.multiply(rel, d, out=w.f)
+            np.matmul(w.ones, w.f, out=w.rate)
             w.rate *= w.inv
             w.rate *= w.inv
-            w.rate *= self.c
+            w.rate *= self.slot_c
             w.coef += w.rate
         return d, w.inv, w.coef
+
+    def spring_coefficients(self, x, v=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per spring, in the order of ``i, j``: ``d = x_i - x_j`` (shape ``(M, d)``), the
+        inverse length ``1/ℓ`` (0 where the ends coincide) and ``a`` (force on ``i`` is
+        ``-a d``). New arrays."""
+        d, inv, a = self.slot_coefficients(x, v)
+        slot = self.layout.slot
+        return (d[:, slot] * self.layout.sign).T, inv[slot], a[slot]
 
     def spring_forces(self, x, v=None) -> np.ndarray:
         """Force on the ``i`` end of each spring (N), shape ``(M, d)`` (a new array)."""
@@ -248,34 +270,11 @@ class SpringNetwork:
         out : ndarray, shape (N, d), optional
             Array to write the forces into (and return), to avoid allocating one.
         """
-        d, _, a = self.spring_coefficients(x, v)
-        w = self._work[d.shape[1]]
-        np.multiply(d, a[:, None], out=w.f)        # a d: minus the force on each i end
-        total = self._incidence @ w.f              # sum over the springs at each particle
-        if out is None:
-            return np.negative(total, out=total)
-        return np.negative(total, out=out)
-
-    def gather(self, p, out: np.ndarray | None = None) -> np.ndarray:
-        """Per-spring differences ``p_i - p_j`` of a per-particle array ``p`` (N, d): shape
-        ``(M, d)`` (the incidence matrix ``D`` applied to ``p``)."""
-        p = self._check("p", p)
-        dim = p.shape[1]
-        w = self._work.get(dim) or self._work.setdefault(dim, _Work(self, dim))
-        np.take(p, self.i, axis=0, out=w.end_i[dim], mode="clip")
-        np.take(p, self.j, axis=0, out=w.end_j[dim], mode="clip")
-        if out is None:
-            out = np.empty((self.n_springs, dim))
-        return np.subtract(w.end_i[dim], w.end_j[dim], out=out)
-
-    def scatter(self, f, same_sign: bool = False) -> np.ndarray:
-        """Per-particle sums of per-spring vectors ``f`` (M, d): ``+f`` at each ``i`` end
-        and ``-f`` at each ``j`` end (``Dᵀ f``), or ``+f`` at both with ``same_sign=True``."""
-        if same_sign:
-            if "abs" not in self._work:
-                self._work["abs"] = abs(self._incidence)
-            return self._work["abs"] @ f
-        return self._incidence @ f
+        d, _, a = self.slot_coefficients(x, v)
+        w = self._work[d.shape[0]]
+        np.multiply(d, a, out=w.f)                 # a d = minus the force on each lo end
+        total = self.slot_sums(w.f, out=out)       # sum over the springs at each particle
+        return np.negative(total, out=total)
 
     def force(self, t, x, v) -> np.ndarray:
         """``F(t, x, v)`` form of :meth:`forces`, for :class:`~course_lib.systems.NewtonianSystem`."""
