@@ -54,10 +54,51 @@ def state_array(name: str, value: object) -> np.ndarray:
     return arr
 
 
-def callable_arg(name: str, value: object) -> Callable:
+def callable_arg(name: str, value: object, signature: str = "(t, y)") -> Callable:
+    """Return ``value``, or raise ``TypeError`` if it cannot be called."""
     if not callable(value):
-        raise TypeError(f"{name} must be callable as {name}(t, y), got {type(value).__name__}")
+        raise TypeError(f"{name} must be callable as {name}{signature}, "
+                        f"got {type(value).__name__}")
     return value
+
+
+def positive_int(name: str, value: object) -> int:
+    """Return ``value`` as an int, or raise if it is not an integer >= 1."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
+    if value < 1:
+        raise ValueError(f"{name} must be >= 1, got {value}")
+    return int(value)
+
+
+def vector(name: str, value: object, nonzero: bool = False) -> np.ndarray:
+    """Return ``value`` as a finite real 1-D float array (not all zero if ``nonzero``)."""
+    arr = state_array(name, value)
+    if np.iscomplexobj(arr) or arr.ndim != 1:
+        raise ValueError(f"{name} must be a real vector of shape (d,), got {arr.dtype} "
+                         f"of shape {arr.shape}")
+    if nonzero and not np.any(arr):
+        raise ValueError(f"{name} must not be the zero vector")
+    return arr
+
+
+def method_options(method: str, y: np.ndarray, name: str, jac: object,
+                   implicit: frozenset[str], newtonian: frozenset[str]) -> None:
+    """Check that ``jac`` and the state's layout suit ``method`` (the state is ``name``)."""
+    if jac is not None:
+        if method not in implicit:
+            raise ValueError(f"jac is only used by the implicit methods {sorted(implicit)}, "
+                             f"not by {method!r}")
+        if not (callable(jac) or isinstance(jac, np.ndarray | list | tuple)
+                or hasattr(jac, "tocsc")):
+            raise TypeError("jac must be callable as jac(t, y), or a (n, n) array or "
+                            f"scipy.sparse matrix; got {type(jac).__name__}")
+    if method in newtonian and (y.ndim < 1 or y.shape[0] != 2):
+        raise ValueError(
+            f"method {method!r} needs a Newtonian state {name} = (x, v) stacked along axis 0 "
+            f"({name}.shape[0] == 2); got {name} of shape {y.shape}. Build one with "
+            "course_lib.systems.stack_state(x, v)."
+        )
 
 
 def shape_of(name: str, arr: np.ndarray, shape: tuple[int | None, ...]) -> np.ndarray:
@@ -77,3 +118,26 @@ def choice(name: str, value: object, choices) -> str:
             f"unknown {name} {value!r}; valid choices are: {', '.join(sorted(choices))}"
         )
     return value
+
+
+def post_step_checker(post_step: Callable, shape: tuple[int, ...], dtype: np.dtype) -> Callable:
+    """``post_step`` whose every result is checked for shape and type (named in errors)."""
+
+    def post(t: float, y: np.ndarray) -> np.ndarray:
+        out = post_step(t, y)
+        if out is None:
+            raise TypeError("post_step must return the new state, got None (a post_step that "
+                            "changes y in place should end with `return y`)")
+        out = np.asarray(out)
+        if out.shape != shape:
+            raise ValueError(f"post_step must return an array of the state's shape {shape}, "
+                             f"got shape {out.shape}")
+        if out.dtype != dtype:
+            if out.dtype == object or not np.issubdtype(out.dtype, np.number):
+                raise TypeError(f"post_step must return numbers, got dtype {out.dtype}")
+            if np.iscomplexobj(out) and not np.iscomplexobj(np.empty(0, dtype)):
+                raise TypeError("post_step returned complex values for a real state")
+            out = out.astype(dtype)
+        return out
+
+    return post

@@ -1,95 +1,227 @@
-"""Newton's method for the equations that implicit integrators must solve each step.
+"""Newton's method for the equation that an implicit integrator solves each step.
 
 An implicit step asks for the end state ``Y`` of
 
-    Y = c + a * dt * f(t1, Y)
+    Y = c + a dt f(t1, Y)
 
 (backward Euler: ``c = y``, ``a = 1``; trapezoid: ``c = y + dt/2 f(t, y)``, ``a = 1/2``).
-We solve ``G(Y) = Y - c - a dt f(t1, Y) = 0`` by Newton's method with the Jacobian
-``I - a dt J``, where ``J = df/dy`` comes from the caller's ``jac(t, y)`` when given and
-from forward finite differences otherwise. On a linear ``f`` an exact Jacobian converges
-in one iteration, and the finite-difference one in two or three, to round-off.
+:class:`NewtonSolver` solves ``G(Y) = Y - c - a dt f(t1, Y) = 0`` with the matrix
+``M = I - a dt J``, where ``J = df/dy`` is the caller's ``jac`` (a constant matrix, or a
+function ``jac(t, y)``; dense or ``scipy.sparse``) or, without one, a forward
+finite-difference Jacobian. Each step factorizes ``M`` once (LU, or ``splu`` for a sparse
+``J``) and reuses it for every Newton iteration; a constant ``jac`` is factorized once per
+step size for the whole run. The Jacobian is re-evaluated only when the iteration slows.
+
+Everything is relative to the size of the state, so the solve does not depend on units:
+the iteration stops when the update is below ``rtol`` times ``max(|Y|, |c|)`` (max norm),
+and the finite-difference steps are ``sqrt(eps)`` times that scale (or ``|y_j|`` if larger).
+
+Imports: numpy and scipy only (core layer).
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
-Jacobian = Callable[[float, np.ndarray], np.ndarray]
+#: ``jac(t, y) -> J``, or ``J`` itself: a ``(n, n)`` ndarray or scipy.sparse matrix.
+Jacobian = Callable[[float, np.ndarray], Any] | np.ndarray | Any
+
+_SQRT_EPS = float(np.sqrt(np.finfo(float).eps))
 
 
 class ConvergenceError(RuntimeError):
-    """Newton's method did not converge within the allowed iterations."""
+    """Newton's method did not converge (``nonfinite`` when ``f`` or an iterate was NaN/inf)."""
+
+    def __init__(self, message: str, nonfinite: bool = False):
+        super().__init__(message)
+        self.nonfinite = nonfinite
 
 
-def finite_difference_jacobian(f: Callable, t: float, y: np.ndarray, fy: np.ndarray | None = None):
+def _max_abs(a: np.ndarray) -> float:
+    return float(np.max(np.abs(a))) if a.size else 0.0
+
+
+def finite_difference_jacobian(f: Callable, t: float, y: np.ndarray, fy: np.ndarray | None = None,
+                               scale: float | None = None) -> np.ndarray:
     """Forward-difference Jacobian of ``f(t, y)`` with respect to ``y``.
 
     Parameters
     ----------
     f : callable
-        ``f(t, y) -> dy/dt`` with ``y`` of any shape.
+        ``f(t, y) -> dy/dt`` with ``y`` of any shape. It may return the same buffer every
+        call and may modify its argument: ``fy`` is copied and each call gets a fresh state.
     t : float
-        Time at which to differentiate.
+        Time (s) at which to differentiate.
     y : ndarray
         State, any shape; it is flattened, so the result is ``(y.size, y.size)``.
     fy : ndarray, optional
         ``f(t, y)`` if already known (saves one evaluation).
+    scale : float, optional
+        Typical size of the state (same units as ``y``); default ``max|y|`` (1 if ``y = 0``).
+        Column ``j`` is perturbed by ``sqrt(eps) max(|y_j|, scale)``.
 
     Returns
     -------
     ndarray, shape (y.size, y.size)
-        ``J[i, j] = d f_i / d y_j``.
+        ``J[i, j] = d f_i / d y_j`` (units of ``f`` per unit of ``y``).
     """
-    y_flat = y.ravel()
-    if fy is None:
-        fy = np.asarray(f(t, y))
-    fy_flat = fy.ravel()
+    y_flat = np.asarray(y).ravel()
+    f0 = np.array(f(t, y.copy()) if fy is None else fy, copy=True).ravel()
+    if scale is None or not scale > 0:
+        scale = _max_abs(y_flat) or 1.0
     n = y_flat.size
-    jac = np.empty((n, n), dtype=np.result_type(fy_flat, y_flat, float))
-    # sqrt(machine epsilon) balances truncation against cancellation for a first difference.
-    steps = np.sqrt(np.finfo(float).eps) * np.maximum(1.0, np.abs(y_flat))
+    jac = np.empty((n, n), dtype=np.result_type(f0, y_flat, float))
+    # sqrt(eps) relative steps balance truncation against cancellation; taking the step as
+    # the difference of two floats makes it exact, so the quotient loses nothing more.
+    bumped = y_flat + _SQRT_EPS * np.maximum(np.abs(y_flat), scale)
+    steps = bumped - y_flat
     for j in range(n):
         y_pert = y_flat.copy()
-        y_pert[j] += steps[j]
-        jac[:, j] = (np.asarray(f(t, y_pert.reshape(y.shape))).ravel() - fy_flat) / steps[j]
+        y_pert[j] = bumped[j]
+        jac[:, j] = (np.asarray(f(t, y_pert.reshape(y.shape))).ravel() - f0) / steps[j]
     return jac
 
 
-def solve_implicit(
-    f: Callable,
-    t1: float,
-    c: np.ndarray,
-    a_dt: float,
-    guess: np.ndarray,
-    jac: Jacobian | None = None,
-    *,
-    rtol: float = 1e-13,
-    max_iter: int = 50,
-) -> np.ndarray:
-    """Solve ``Y = c + a_dt * f(t1, Y)`` for ``Y`` by Newton's method.
+class NewtonSolver:
+    """Solves ``Y = c + a_dt f(t1, Y)`` by Newton's method, reusing its Jacobian.
+
+    Parameters
+    ----------
+    jac : callable, ndarray or scipy.sparse matrix, optional
+        ``df/dy`` as a ``(n, n)`` matrix with ``n = y.size`` (units of ``f`` per unit of
+        ``y``): a constant matrix, or ``jac(t, y)`` returning one (dense or sparse). Finite
+        differences are used when it is omitted. A sparse ``J`` gives a sparse solve.
+    rtol : float
+        Stop when the Newton update is below ``rtol * max(|Y|, |c|)`` (max norm).
+    max_iter : int
+        Give up after this many iterations (:class:`ConvergenceError`).
+    """
+
+    def __init__(self, jac: Jacobian | None = None, *, rtol: float = 1e-13, max_iter: int = 50):
+        self._const = None
+        self._func = None
+        if jac is not None:
+            if callable(jac):
+                self._func = jac
+            elif sp.issparse(jac) or isinstance(jac, np.ndarray | list | tuple):
+                self._const = jac if sp.issparse(jac) else np.asarray(jac)
+            else:
+                raise TypeError("jac must be a (n, n) array, a scipy.sparse matrix, or callable "
+                                f"as jac(t, y) returning one; got {type(jac).__name__}")
+        self.rtol = float(rtol)
+        self.max_iter = int(max_iter)
+        self._cache: dict[float, Callable] = {}   # factorizations of a constant jac, by a_dt
+
+    def jacobian(self, f: Callable, t: float, y: np.ndarray, fy: np.ndarray, scale: float):
+        """``J = df/dy`` at ``(t, y)``: from ``jac``, or by finite differences."""
+        if self._func is None and self._const is None:
+            return finite_difference_jacobian(f, t, y, fy, scale)
+        J = self._const if self._const is not None else self._func(t, y.copy())
+        if not sp.issparse(J):
+            J = np.asarray(J)
+        if J.shape != (y.size, y.size):
+            raise ValueError(f"jac must return shape ({y.size}, {y.size}) for a state of shape "
+                             f"{y.shape}, got {J.shape}")
+        return J
+
+    @staticmethod
+    def factorize(J, a_dt: float, t1: float) -> Callable[[np.ndarray], np.ndarray]:
+        """A function ``r -> (I - a_dt J)^{-1} r``, from one LU factorization of the matrix."""
+        n = J.shape[0]
+        if sp.issparse(J):
+            M = (sp.identity(n, dtype=J.dtype, format="csc") - a_dt * J).tocsc()
+            if not np.all(np.isfinite(M.data)):
+                raise ConvergenceError(f"implicit step at t = {t1:g}: jac has non-finite "
+                                       "entries", nonfinite=True)
+            try:
+                return spla.splu(M).solve
+            except RuntimeError:  # "Factor is exactly singular"
+                raise ConvergenceError(f"implicit step at t = {t1:g}: the Newton matrix "
+                                       f"I - {a_dt:g} J is singular") from None
+        M = np.eye(n) - a_dt * J
+        if not np.all(np.isfinite(M)):
+            raise ConvergenceError(f"implicit step at t = {t1:g}: the Jacobian has non-finite "
+                                   "entries", nonfinite=True)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", sla.LinAlgWarning)
+            lu_piv = sla.lu_factor(M, check_finite=False)
+        if np.any(np.diag(lu_piv[0]) == 0):
+            raise ConvergenceError(f"implicit step at t = {t1:g}: the Newton matrix "
+                                   f"I - {a_dt:g} J is singular")
+        return lambda r: sla.lu_solve(lu_piv, r, check_finite=False)
+
+    def solve(self, f: Callable, t1: float, c: np.ndarray, a_dt: float,
+              guess: np.ndarray) -> np.ndarray:
+        """The end state ``Y`` (a new array of ``c``'s shape).
+
+        ``f`` may reuse its output buffer and may modify its argument; ``c`` and ``guess``
+        are not modified. Raises :class:`ConvergenceError` when the iteration fails.
+        """
+        shape = c.shape
+        y = np.array(guess, dtype=np.result_type(guess, c, float), copy=True)
+        c_scale = _max_abs(c)
+        solve_lin = self._cache.get(a_dt) if self._const is not None else None
+        fresh, prev = False, np.inf
+        for _ in range(self.max_iter):
+            fy = np.asarray(f(t1, y.copy()))
+            residual = (y - c - a_dt * fy).ravel()
+            if not np.all(np.isfinite(residual)):
+                raise ConvergenceError(f"implicit step at t = {t1:g}: f returned non-finite "
+                                       "values", nonfinite=True)
+            scale = max(c_scale, _max_abs(y)) or 1.0
+            if solve_lin is None:
+                solve_lin = self.factorize(self.jacobian(f, t1, y, fy, scale), a_dt, t1)
+                fresh = True
+                if self._const is not None and len(self._cache) < 8:
+                    self._cache[a_dt] = solve_lin
+            delta = solve_lin(residual).reshape(shape)
+            y = y - delta
+            norm = _max_abs(delta)
+            if not np.isfinite(norm):
+                raise ConvergenceError(f"implicit step at t = {t1:g}: Newton iterates diverged",
+                                       nonfinite=True)
+            scale = max(scale, _max_abs(y))
+            # Converged, or stalled at round-off (the update stopped shrinking).
+            if norm <= self.rtol * scale or (norm <= 1e-9 * scale and norm >= prev):
+                return y
+            # A stale Jacobian that no longer contracts well is re-evaluated here.
+            if norm > 0.25 * prev and not fresh and self._const is None:
+                solve_lin = None
+            fresh, prev = False, norm
+        raise ConvergenceError(
+            f"implicit step at t = {t1:g}: Newton's method did not converge in {self.max_iter} "
+            "iterations; try a smaller dt or pass an exact jac"
+        )
+
+
+def solve_implicit(f: Callable, t1: float, c: np.ndarray, a_dt: float, guess: np.ndarray,
+                   jac: Jacobian | None = None, *, rtol: float = 1e-13,
+                   max_iter: int = 50) -> np.ndarray:
+    """Solve ``Y = c + a_dt * f(t1, Y)`` for ``Y`` (one-off use of :class:`NewtonSolver`).
 
     Parameters
     ----------
     f : callable
         Right-hand side ``f(t, y)``.
     t1 : float
-        Time of the unknown state (end of the step).
+        Time (s) of the unknown state (end of the step).
     c : ndarray
         Known part of the equation, same shape as the state.
     a_dt : float
-        ``a * dt``: the weight of the unknown derivative (``dt`` for backward Euler).
+        ``a * dt`` (s): the weight of the unknown derivative (``dt`` for backward Euler).
     guess : ndarray
-        Starting iterate, e.g. a forward Euler predictor.
-    jac : callable, optional
-        ``jac(t, y)``: the Jacobian ``df/dy`` as a ``(y.size, y.size)`` array. Finite
-        differences are used when it is omitted.
-    rtol : float
-        Stop when the Newton update is below ``rtol * max(1, |Y|)`` (max norm).
-    max_iter : int
-        Give up after this many iterations.
+        Starting iterate, e.g. the state at the start of the step.
+    jac : callable, ndarray or sparse matrix, optional
+        ``df/dy``, see :class:`NewtonSolver`.
+    rtol, max_iter
+        See :class:`NewtonSolver`.
 
     Returns
     -------
@@ -99,40 +231,6 @@ def solve_implicit(
     Raises
     ------
     ConvergenceError
-        If Newton's method does not converge (or the Jacobian is singular).
+        If Newton's method does not converge (or the Newton matrix is singular).
     """
-    shape = c.shape
-    y = np.array(guess, dtype=np.result_type(guess, c, float), copy=True)
-    eye = np.eye(y.size)
-    prev_norm = np.inf
-    for _ in range(max_iter):
-        fy = np.asarray(f(t1, y))
-        residual = (y - c - a_dt * fy).ravel()
-        if jac is None:
-            jmat = finite_difference_jacobian(f, t1, y, fy)
-        else:
-            jmat = np.asarray(jac(t1, y))
-            if jmat.shape != (y.size, y.size):
-                raise ValueError(
-                    f"jac must return shape ({y.size}, {y.size}) for a state of shape "
-                    f"{shape}, got {jmat.shape}"
-                )
-        try:
-            delta = np.linalg.solve(eye - a_dt * jmat, residual)
-        except np.linalg.LinAlgError:
-            raise ConvergenceError(
-                f"implicit step at t = {t1:g}: the Newton matrix I - {a_dt:g} J is singular"
-            ) from None
-        y = y - delta.reshape(shape)
-        norm = np.max(np.abs(delta))
-        scale = max(1.0, float(np.max(np.abs(y))))
-        if not np.isfinite(norm):
-            raise ConvergenceError(f"implicit step at t = {t1:g}: Newton iterates diverged")
-        # Converged, or stalled at round-off (the update stopped shrinking).
-        if norm <= rtol * scale or (norm <= 1e-9 * scale and norm >= prev_norm):
-            return y
-        prev_norm = norm
-    raise ConvergenceError(
-        f"implicit step at t = {t1:g}: Newton's method did not converge in {max_iter} "
-        "iterations; try a smaller dt or pass an exact jac"
-    )
+    return NewtonSolver(jac, rtol=rtol, max_iter=max_iter).solve(f, t1, c, a_dt, guess)

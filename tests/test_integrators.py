@@ -144,7 +144,8 @@ def test_symplectic_euler_energy_bounded_below_omega_dt_2(omega_dt):
 
 
 def test_symplectic_euler_blows_up_above_omega_dt_2():
-    traj = cl.integrate(oscillator(1.0), [1.0, 0.0], (0.0, 500 * 2.05), 2.05, "symplectic_euler")
+    traj = cl.integrate(oscillator(1.0), [1.0, 0.0], (0.0, 500 * 2.05), 2.05, "symplectic_euler",
+                        blowup_bound=1e6)
     assert not traj.stable
     assert "unstable at step" in traj.message
 
@@ -163,13 +164,23 @@ def test_forward_euler_decay_limit_is_2_over_k(k):
 # --- blow-up handling -------------------------------------------------------------------
 
 def test_blowup_stops_with_clear_message_and_no_warnings(recwarn):
-    traj = cl.integrate(lambda t, y: 10.0 * y, [1.0, 2.0], (0.0, 1000.0), 1.0)
+    traj = cl.integrate(lambda t, y: 10.0 * y, [1.0, 2.0], (0.0, 1000.0), 1.0, blowup_bound=1e6)
     assert traj.status == "unstable" and not traj.stable
     assert traj.blowup_step == 6
-    assert traj.message.startswith("unstable at step 6, t = 6")
+    assert traj.message == "unstable at step 6, t = 6 (|y| > 1e+06)"
     assert traj.y.shape == (1001, 2) and traj.t.shape == (1001,)
     assert np.all(np.isnan(traj.y[7:]))
-    assert np.all(np.isfinite(traj.y[:7]))
+    np.testing.assert_array_equal(traj.y[:7], 11.0 ** np.arange(7)[:, None] * [1.0, 2.0])
+    assert traj.last_valid == 6
+    assert len(recwarn) == 0
+
+
+def test_without_a_bound_only_overflow_stops_the_run(recwarn):
+    # 11**k * 2 overflows a double after k = 295: the first non-finite state is step 296.
+    traj = cl.integrate(lambda t, y: 10.0 * y, [1.0, 2.0], (0.0, 1000.0), 1.0)
+    assert traj.blowup_step == 296 and traj.last_valid == 295
+    assert traj.message == "unstable at step 296, t = 296 (non-finite state)"
+    assert np.all(np.isfinite(traj.y[:296])) and np.all(np.isnan(traj.y[296:]))
     assert len(recwarn) == 0
 
 
@@ -185,10 +196,12 @@ def test_blowup_can_raise():
                      blowup_bound=100.0)
 
 
-def test_n_steps_is_rounded_span_over_dt():
+def test_grid_lands_on_t1_with_a_shortened_last_step():
     traj = cl.integrate(lambda t, y: -y, 1.0, (0.0, 1.0), 0.3)
-    assert traj.y.shape == (4,) and traj.t.shape == (4,)
-    np.testing.assert_allclose(traj.t, [0.0, 0.3, 0.6, 0.9])
+    assert traj.y.shape == (5,) and traj.t.shape == (5,)
+    np.testing.assert_array_equal(traj.t, [0.0, 0.3, 0.6, 0.8999999999999999, 1.0])
+    np.testing.assert_allclose(traj.y, [1.0, 0.7, 0.49, 0.343, 0.343 * (1 - (1.0 - 0.9))],
+                               rtol=1e-13)
 
 
 def test_state_of_any_shape():
