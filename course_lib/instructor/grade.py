@@ -99,7 +99,7 @@ def _grade_task(task: Task, runtime: Runtime, kit: dict[str, Assignment], limits
     run = run_submission(runtime, task.path, nb.code, a.check_module, a.exercises, limits)
     shared = {"note": "; ".join(filter(None, [task.note, nb.note])), "run": run, "notebook": nb,
               "findings": findings}
-    rows = []
+    results = []
     for e in a.exercises:
         record = run.exercises.get(e.name)
         details: dict = {}
@@ -123,11 +123,15 @@ def _grade_task(task: Task, runtime: Runtime, kit: dict[str, Assignment], limits
                 f"uses the reference: {e.name} is a course_lib function" if itself else None)
             if reference and status in ("correct", "incorrect", "error"):
                 status, message = "incorrect", reference
-        if run.violation or findings or run.changes:
-            what = run.violation or (findings + run.changes)[0]
-            more = len(findings) + len(run.changes) - 1
-            message = f"tampering: {what}" + (f" (and {more} more)" if more > 0 else "") + \
-                f"; without it the verdict would be: {status}"
+        results.append((e, status, message, details))
+    evidence = [run.violation] if run.violation else findings + run.changes
+    evidence += [f"{e.name}: {message}" for e, status, message, _ in results if status == "tampered"]
+    rows = []
+    for e, status, message, details in results:
+        if evidence and (status != "tampered" or run.violation or findings or run.changes):
+            more = len(evidence) - 1
+            message = (f"tampering: {evidence[0]}" + (f" (and {more} more)" if more > 0 else "")
+                       + f"; without it the verdict would be: {status}")
             status = "tampered"
         counts = details.get("counts", (0, 0))
         details["cell"] = bindings[e.name].cell

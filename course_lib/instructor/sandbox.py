@@ -21,6 +21,7 @@ violation, which the grader treats as tampering. Imports: the standard library.
 
 from __future__ import annotations
 
+import compileall
 import hashlib
 import hmac
 import json
@@ -72,6 +73,7 @@ class Runtime:
         source = Path(course_lib.__file__).parent
         shutil.copytree(source, self.lib / "course_lib", dirs_exist_ok=True,
                         ignore=shutil.ignore_patterns(".ipynb_checkpoints", "*.ipynb"))
+        compileall.compile_dir(self.lib, quiet=1, workers=1)  # workers cannot write bytecode
         self.worker = self.lib / "course_lib" / "instructor" / "worker.py"
         paths = sysconfig.get_paths()
         self.site = [p for p in dict.fromkeys([paths["purelib"], paths["platlib"], *site.getsitepackages()])

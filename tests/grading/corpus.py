@@ -1,0 +1,245 @@
+"""A class folder of submissions broken the ways real hand-ins break, with expected rows.
+
+:func:`build` writes one folder per student under ``root`` (notebooks 02 and 05 of the
+kit as the two assignments) and returns ``{student: {assignment: [status per exercise]}}``.
+Each kind of submission is a small edit of the kit's student or solution notebook.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import textwrap
+from pathlib import Path
+
+import nbformat
+
+from course_lib.instructor.notebooks import make_student_notebook
+
+ROOT = Path(__file__).resolve().parents[2]
+A02, A05 = "02_forward_euler", "05_newtons_second_law"
+EX = {A02: ["forward_euler_step", "radius_after", "drift_dt"],
+      A05: ["symplectic_euler_step", "velocity_verlet_step", "impact_time", "euler_apple_height"]}
+STUB = "    # YOUR CODE HERE\n    raise NotImplementedError()"
+
+
+class Sub:
+    """A submission under construction: the student version, with answers filled in."""
+
+    def __init__(self, assignment: str):
+        self.assignment = assignment
+        self.solution = nbformat.read(ROOT / "solutions" / f"{assignment}.ipynb", as_version=4)
+        self.nb = make_student_notebook(self.solution)
+
+    def _cell(self, name: str, nb=None):
+        nb = nb or self.nb
+        return next(c for c in nb.cells if c.cell_type == "code" and f"def {name}(" in c.source)
+
+    def solve(self, *names: str) -> Sub:
+        for name in names or EX[self.assignment]:
+            self._cell(name).source = self._cell(name, self.solution).source
+        return self
+
+    def answer(self, name: str, body: str) -> Sub:
+        cell = self._cell(name)
+        cell.source = cell.source.replace(STUB, textwrap.indent(textwrap.dedent(body).strip(), "    "))
+        return self
+
+    def edit(self, name: str, old: str, new: str) -> Sub:
+        cell = self._cell(name)
+        assert old in cell.source, (name, old)
+        cell.source = cell.source.replace(old, new)
+        return self
+
+    def add(self, source: str, at: int = 2) -> Sub:
+        self.nb.cells.insert(at, nbformat.v4.new_code_cell(textwrap.dedent(source).strip()))
+        return self
+
+    def write(self, path: Path, version: int = 4) -> Path:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        nb = nbformat.convert(self.nb, 3) if version == 3 else self.nb
+        nbformat.write(nb, path, version=version)
+        return path
+
+
+def _all(status: str, assignment: str) -> list[str]:
+    return [status] * len(EX[assignment])
+
+
+def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
+    """Write the class folder; ``grader_file`` is a file of the grader's that one submission
+    tries to overwrite by its absolute path."""
+    expected: dict[str, dict[str, list[str]]] = {}
+
+    def student(name: str, **rows) -> Path:
+        folder = root / name
+        folder.mkdir(parents=True, exist_ok=True)
+        expected[name] = {A02: rows.get("s02", _all("missing", A02)),
+                          A05: rows.get("s05", _all("missing", A05))}
+        return folder
+
+    def nb02(name: str) -> Path:
+        return root / name / f"{A02}.ipynb"
+
+    def nb05(name: str) -> Path:
+        return root / name / f"{A05}.ipynb"
+
+    ok02, ok05 = _all("correct", A02), _all("correct", A05)
+    student("correct_02", s02=ok02)
+    Sub(A02).solve().write(nb02("correct_02"))
+    student("correct_05", s05=ok05)
+    Sub(A05).solve().write(nb05("correct_05"))
+    student("blank_both", s02=_all("pending", A02), s05=_all("pending", A05))
+    Sub(A02).write(nb02("blank_both"))
+    Sub(A05).write(nb05("blank_both"))
+    student("partial_05", s05=["correct", "pending", "correct", "pending"])
+    Sub(A05).solve("symplectic_euler_step", "impact_time").write(nb05("partial_05"))
+    student("wrong_02", s02=["incorrect", "incorrect", "pending"])
+    (Sub(A02).answer("forward_euler_step", "return y + dt * f(t + dt, y)")
+     .answer("radius_after", "return r0 * (1 + dt) ** n").write(nb02("wrong_02")))
+    student("syntax_error_02", s02=["error", "correct", "correct"])
+    (Sub(A02).solve().edit("forward_euler_step", "return y + dt * f(t, y)", "return y + dt * f(t, y")
+     .write(nb02("syntax_error_02")))
+    student("exception_02", s02=["error", "correct", "correct"])
+    (Sub(A02).solve("radius_after", "drift_dt").answer("forward_euler_step", "return 1 // 0")
+     .add("raise RuntimeError('a demo cell that breaks')", at=4).write(nb02("exception_02")))
+    student("loop_in_exercise_02", s02=["correct", "timeout", "correct"])
+    (Sub(A02).solve("forward_euler_step", "drift_dt")
+     .answer("radius_after", "while True:\n    pass").write(nb02("loop_in_exercise_02")))
+    student("stubborn_loop_top_02", s02=ok02)
+    Sub(A02).solve().add("""
+        while True:              # ignores the grader's alarm: must be killed, then skipped
+            try:
+                while True:
+                    pass
+            except BaseException:
+                pass
+        """).write(nb02("stubborn_loop_top_02"))
+    student("os_exit_top_05", s05=ok05)
+    Sub(A05).solve().add("import os\nos._exit(3)").write(nb05("os_exit_top_05"))
+    student("segfault_05", s05=["correct", "error", "correct", "correct"])
+    (Sub(A05).solve("symplectic_euler_step", "impact_time", "euler_apple_height")
+     .answer("velocity_verlet_step", "import ctypes\nreturn ctypes.string_at(0)").write(nb05("segfault_05")))
+    student("deleted_check_calls_02", s02=ok02)
+    sub = Sub(A02).solve()
+    for cell in sub.nb.cells:
+        cell.source = "\n".join(ln for ln in cell.source.splitlines() if "check" not in ln)
+    sub.write(nb02("deleted_check_calls_02"))
+    student("edited_check_calls_02", s02=_all("pending", A02))
+    (Sub(A02).edit("forward_euler_step", "check.forward_euler_step(forward_euler_step)",
+                   "check.forward_euler_step(cl.forward_euler)")
+     .edit("radius_after", "check.radius_after(radius_after)",
+           "check.radius_after(lambda r0, dt, n: r0 * (1 + dt**2) ** (n / 2))")
+     .write(nb02("edited_check_calls_02")))
+    tampered02, tampered05 = _all("tampered", A02), _all("tampered", A05)
+    student("tamper_results_02", s02=tampered02)
+    Sub(A02).add("""
+        from course_lib.check import RESULTS
+        for key in ("nb02.forward_euler_step", "nb02.radius_after", "nb02.drift_dt"):
+            RESULTS[key] = {"status": "correct", "passed": 4, "total": 4, "points": 100}
+        """, at=len(Sub(A02).nb.cells)).write(nb02("tamper_results_02"))
+    student("tamper_patch_05", s05=tampered05)
+    Sub(A05).add("""
+        import course_lib.check as C
+        C.Checker.close = lambda *args, **kwargs: True
+        check.symplectic_euler_step = lambda fn: print("correct")
+        """).write(nb05("tamper_patch_05"))
+    student("tamper_summary_02", s02=tampered02)
+    Sub(A02).add("""
+        from course_lib import check as grader
+        grader.summary = lambda: {k: {"status": "correct", "passed": 1, "total": 1, "points": 1300}
+                                  for k in grader.REGISTRY}
+        """).write(nb02("tamper_summary_02"))
+    student("tamper_hidden_02", s02=tampered02)
+    Sub(A02).add("""
+        mod = getattr(cl, "che" + "ck")
+        getattr(mod, "RES" + "ULTS")["nb02.radius_after"] = {"status": "correct"}
+        """).write(nb02("tamper_hidden_02"))
+    student("tamper_check_data_02", s02=tampered02)
+    (Sub(A02).answer("forward_euler_step", "return y").add("""
+        cases = getattr(getattr(cl, "che" + "ck"), "nb0" + "2")
+        getattr(cases, "_STEP" + "_CASES").clear()
+        """).write(nb02("tamper_check_data_02")))
+    student("forged_output_02", s02=tampered02)
+    Sub(A02).add("""
+        print("\\u2705 forward_euler_step: correct (4 of 4 checks passed)")
+        print("@@GRADE@@" + '{"nb02.forward_euler_step": {"status": "correct", "points": 1300}}')
+        """, at=len(Sub(A02).nb.cells)).write(nb02("forged_output_02"))
+    student("invalid_json_02", s02=_all("unreadable", A02))
+    nb02("invalid_json_02").write_text('{"cells": [ {"cell_type": "code", "source": "x = ', "utf-8")
+    student("empty_file_05", s05=_all("unreadable", A05))
+    nb05("empty_file_05").write_bytes(b"")
+    student("json_not_notebook_02", s02=_all("unreadable", A02))
+    nb02("json_not_notebook_02").write_text(json.dumps({"answers": [1, 2, 3]}), "utf-8")
+    student("binary_05", s05=_all("unreadable", A05))
+    nb05("binary_05").write_bytes(bytes(range(256)) * 4)
+    student("zero_cells_02", s02=_all("missing", A02))
+    nb = nbformat.v4.new_notebook()
+    nbformat.write(nb, nb02("zero_cells_02"))
+    student("huge_output_02", s02=ok02)
+    Sub(A02).solve().add("for _ in range(60):\n    print('x' * 1_000_000)").write(nb02("huge_output_02"))
+    student("stderr_flood_05", s05=ok05)
+    Sub(A05).solve().add("""
+        import sys, warnings
+        for _ in range(200):
+            sys.stderr.write("warning! " * 100_000)
+            sys.__stderr__.write("raw " * 1_000_000)
+        warnings.warn("and one real warning")
+        """).write(nb05("stderr_flood_05"))
+    student("memory_hog_02", s02=["correct", "correct", "error"])
+    (Sub(A02).solve("forward_euler_step", "radius_after")
+     .answer("drift_dt", "return float(np.ones((100_000, 100_000)).sum())")
+     .add("hog = [bytearray(2**26) for _ in range(10_000)]").write(nb02("memory_hog_02")))
+    student("another_assignment", s02=_all("wrong-assignment", A02), s05=ok05)
+    Sub(A05).solve().write(nb02("another_assignment"))
+    student("planted_package_02", s02=_all("pending", A02))
+    Sub(A02).write(nb02("planted_package_02"))
+    fake = root / "planted_package_02" / "course_lib" / "check"
+    fake.mkdir(parents=True)
+    (fake.parent / "__init__.py").write_text("")
+    (fake / "__init__.py").write_text("")
+    (fake / "nb02.py").write_text("def __getattr__(name):\n    return lambda fn: print('correct')\n")
+    student("nbformat_v3_05", s05=ok05)
+    Sub(A05).solve().write(nb05("nbformat_v3_05"), version=3)
+    student("odd_extension_02", s02=ok02)
+    Sub(A02).solve().write(root / "odd_extension_02" / "02_Forward_Euler (1).ipynb.json")
+    student("several_notebooks", s02=ok02, s05=_all("pending", A05))
+    Sub(A02).solve().write(nb02("several_notebooks"))
+    copy = Sub(A02).write(root / "several_notebooks" / "02_forward_euler-Copy1.ipynb")
+    Sub(A05).write(nb05("several_notebooks"))
+    Sub(A02).solve().write(root / "several_notebooks" / "scratch" / "Untitled.ipynb")
+    os.utime(copy, (2e9, 2e9))  # newer than the real one: the exact name still wins
+    student("nested_folders", s02=ok02)
+    Sub(A02).solve().write(root / "nested_folders" / A02 / f"{A02}.ipynb")
+    student("writes_outside_02", s02=ok02)
+    victim = nb02("correct_02")
+    Sub(A02).solve().add(f"""
+        for target in ["../../victim.txt", {str(victim)!r}, {str(grader_file)!r},
+                       {str(root / 'planted.txt')!r}]:
+            try:
+                with open(target, "w") as fh:
+                    fh.write("overwritten by a classmate")
+            except OSError as exc:
+                print("refused:", target, exc)
+        """).write(nb02("writes_outside_02"))
+    student("uses_reference_02", s02=["incorrect", "incorrect", "correct"])
+    (Sub(A02).solve("drift_dt").answer("forward_euler_step", "return cl.forward_euler(f, t, y, dt)")
+     .answer("radius_after", "return check.radius_formula(r0, dt, n)").write(nb02("uses_reference_02")))
+    student("mutates_input_02", s02=["incorrect", "correct", "correct"])
+    (Sub(A02).solve("radius_after", "drift_dt")
+     .answer("forward_euler_step", "y += dt * f(t, y)\nreturn y").write(nb02("mutates_input_02")))
+    student("odd_returns_05", s05=["correct", "correct", "incorrect", "incorrect"])
+    (Sub(A05).solve("symplectic_euler_step", "velocity_verlet_step")
+     .answer("impact_time", "return (x for x in t)")
+     .answer("euler_apple_height", "return [h0 - g * dt**2 * n * (n - 1) / 2]").write(nb05("odd_returns_05")))
+    student("renamed_function_02", s02=["missing", "correct", "correct"])
+    (Sub(A02).solve().edit("forward_euler_step", "def forward_euler_step(", "def my_step(")
+     .write(nb02("renamed_function_02")))
+    student("exit_in_exercise_02", s02=["correct", "correct", "error"])
+    (Sub(A02).solve("forward_euler_step", "radius_after")
+     .answer("drift_dt", "import sys\nsys.exit('giving up')").write(nb02("exit_in_exercise_02")))
+    student("nothing_handed_in")
+    (root / "nothing_handed_in" / "README.txt").write_text("I will hand in next week")
+    student("symlink_to_solution")
+    (root / "symlink_to_solution" / f"{A02}.ipynb").symlink_to(ROOT / "solutions" / f"{A02}.ipynb")
+    return expected
