@@ -74,8 +74,8 @@ def test_syllabus_values():
         ("velocity_verlet", 3j, 2.0 / 3.0),
         ("forward_euler", 1j, 0.0),
         ("midpoint", 1j, 0.0),
-        ("backward_euler", -1.0, 1e3),
-        ("trapezoidal", 1j, 1e3),
+        ("backward_euler", -1.0, np.inf),
+        ("trapezoidal", 1j, np.inf),
     ],
 )
 def test_max_stable_dt(method, lam, expected):
