@@ -1,10 +1,11 @@
 """Forces on particles, each a small vectorized function of positions and velocities.
 
 Conventions: positions ``x`` and velocities ``v`` have shape ``(N, d)`` (N particles,
-d = 2 or 3), masses ``(N,)``; every function returns forces ``(N, d)`` in newtons.
-The factories (``constant_gravity``, ``drag``, ...) return a force ``F(t, x, v)`` ready
-for :class:`course_lib.systems.NewtonianSystem`; add several with
-:func:`course_lib.systems.sum_forces`.
+d = 2 or 3), or ``(d,)`` for a single particle; masses and other per-particle
+coefficients are scalars or ``(N,)``; every function returns forces of the shape of ``x``
+(or ``v``) in newtons. The factories (``constant_gravity``, ``drag``, ...) return a force
+``F(t, x, v)`` ready for :class:`course_lib.systems.NewtonianSystem`; add several with
+:func:`course_lib.systems.sum_forces`. Imports: numpy, ``_validate``, ``systems`` (core).
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _validate
-from .systems import split_state
+from .systems import split_particles
 
 #: Standard gravity (m/s²), pointing down the y axis as in the syllabus.
 G_EARTH = np.array([0.0, -9.81, 0.0])
@@ -20,9 +21,16 @@ G_EARTH = np.array([0.0, -9.81, 0.0])
 G_NEWTON = 6.674e-11
 
 
-def _mass_column(mass, n: int) -> np.ndarray:
-    m = np.broadcast_to(np.asarray(mass, dtype=float), (n,))
-    return m[:, None]
+def _per_particle(values, like: np.ndarray, name: str = "mass"):
+    """A scalar or ``(N,)`` coefficient shaped to multiply vectors ``like`` ``(N, d)``/``(d,)``."""
+    c = np.asarray(values, dtype=float)
+    if c.ndim == 0:
+        return c
+    n = like.shape[0] if like.ndim >= 2 else 1
+    if c.shape != (n,):
+        raise ValueError(f"{name} must be a scalar or have one entry per particle ({n},), "
+                         f"got shape {c.shape}")
+    return c.reshape(-1, *([1] * (like.ndim - 1))) if like.ndim >= 2 else c[0]
 
 
 def gravity_force(mass, g=G_EARTH) -> np.ndarray:
@@ -33,13 +41,17 @@ def gravity_force(mass, g=G_EARTH) -> np.ndarray:
 
 
 def constant_gravity(mass, g=G_EARTH):
-    """Force ``F(t, x, v) = m g`` (uniform gravity). ``g`` must match the dimension of x."""
-    g = _validate.state_array("g", g)
+    """Force ``F(t, x, v) = m g`` (uniform gravity). ``g`` must match the dimension of x;
+    ``mass`` is a scalar or ``(N,)`` (kg); ``x`` is ``(N, d)`` or ``(d,)``."""
+    g = _validate.vector("g", g)
+    mass = np.asarray(mass, dtype=float)
 
     def F(t, x, v):
-        if x.shape[-1] != g.shape[-1]:
-            raise ValueError(f"g has {g.shape[-1]} components but x is {x.shape[-1]}-D")
-        return np.broadcast_to(_mass_column(mass, x.shape[0]) * g, x.shape).copy()
+        x = np.asarray(x)
+        if x.shape[-1:] != g.shape:
+            raise ValueError(f"g has {g.size} components but x is {x.shape[-1:]}-D "
+                             f"(x of shape {x.shape})")
+        return np.broadcast_to(_per_particle(mass, x) * g, x.shape).copy()
 
     return F
 
@@ -65,16 +77,22 @@ def nbody_gravity_force(x, mass, G: float = 1.0, softening: float = 0.0) -> np.n
 
     Notes
     -----
-    Vectorized over all pairs with broadcasting: O(N²) memory, fine for a few hundred
-    bodies.
+    With ``w_ij = m_j / (|r_ij|² + ε²)^{3/2}`` the force is
+    ``F_i = G m_i (Σ_j w_ij x_j - x_i Σ_j w_ij)``: the first sum is one matrix product.
+    Pairs are handled a block of rows at a time (:data:`PAIR_BLOCK` pairs), so the work
+    arrays stay in cache and take ``3 × PAIR_BLOCK`` floats however large ``N`` is.
+    Positions are taken about their mean, so the two sums cancel as little as possible.
     """
     x = np.asarray(x, dtype=float)
     m = np.broadcast_to(np.asarray(mass, dtype=float), x.shape[:1])
-    r = x[:, None, :] - x[None, :, :]                      # r_ij = x_i - x_j
-    dist2 = np.sum(r * r, axis=-1) + softening**2
-    np.fill_diagonal(dist2, np.inf)                        # no self-force
-    inv_d3 = dist2**-1.5
-    return -G * m[:, None] * np.einsum("ij,ijk->ik", m[None, :] * inv_d3, r)
+    centred = x - x.mean(axis=0)
+    out = np.empty_like(x)
+    for a, b, w in _inverse_distance_blocks(centred, softening, 3):
+        w *= m                                             # w_ij = m_j / r³
+        pull = w @ centred                                 # Σ_j w_ij x_j
+        pull -= centred[a:b] * w.sum(axis=1)[:, None]      # - x_i Σ_j w_ij
+        np.multiply(pull, (G * m[a:b])[:, None], out=out[a:b])
+    return out
 
 
 def nbody_gravity(mass, G: float = 1.0, softening: float = 0.0):
@@ -84,29 +102,39 @@ def nbody_gravity(mass, G: float = 1.0, softening: float = 0.0):
         raise ValueError(f"softening must be >= 0, got {softening}")
 
     def F(t, x, v):
+        if np.ndim(x) == 1:                  # a lone body feels no pull
+            return np.zeros(np.shape(x))
         return nbody_gravity_force(x, mass, G, softening)
 
     return F
 
 
 def nbody_potential_energy(x, mass, G: float = 1.0, softening: float = 0.0) -> np.ndarray:
-    """``-Σ_{i<j} G m_i m_j / sqrt(|r_ij|² + ε²)`` (J); ``x`` may be ``(N, d)`` or ``(n, N, d)``."""
+    """``-Σ_{i<j} G m_i m_j / sqrt(|r_ij|² + ε²)`` (J); ``x`` may be ``(N, d)`` or ``(n, N, d)``.
+
+    Each state is summed a block of rows at a time, like :func:`nbody_gravity_force`.
+    """
     x = np.asarray(x, dtype=float)
-    m = np.asarray(mass, dtype=float)
-    r = x[..., :, None, :] - x[..., None, :, :]
-    dist = np.sqrt(np.sum(r * r, axis=-1) + softening**2)
-    iu = np.triu_indices(x.shape[-2], 1)
-    mm = (m[:, None] * m[None, :])[iu]
-    return -G * np.sum(mm / dist[..., iu[0], iu[1]], axis=-1)
+    m = np.broadcast_to(np.asarray(mass, dtype=float), x.shape[-2:-1])
+    states = x.reshape(-1, *x.shape[-2:])
+    if states.shape[1] <= 16:                              # few bodies: all pairs at once
+        iu = np.triu_indices(states.shape[1], 1)
+        r = states[:, iu[0]] - states[:, iu[1]]
+        dist = np.sqrt(np.sum(r * r, axis=-1) + softening**2)
+        energy = -G * np.sum(m[iu[0]] * m[iu[1]] / dist, axis=-1)
+    else:
+        energy = np.zeros(states.shape[0])
+        for k, state in enumerate(states):
+            for a, b, w in _inverse_distance_blocks(state, softening, 1):
+                energy[k] -= 0.5 * G * (m[a:b] @ (w @ m))  # each pair counted twice
+    return energy.reshape(x.shape[:-2])[()]
 
 
 def linear_drag_force(v, b, wind=0.0) -> np.ndarray:
     """Viscous (Stokes) drag ``-b (v - w)``: ``b`` in kg/s (scalar or per particle ``(N,)``),
     wind ``w`` in m/s."""
-    b = np.asarray(b, dtype=float)
-    if b.ndim:
-        b = b[:, None]
-    return -b * (np.asarray(v, dtype=float) - wind)
+    v = np.asarray(v, dtype=float)
+    return -_per_particle(b, v, "b") * (v - wind)
 
 
 def quadratic_drag_force(v, c, wind=0.0) -> np.ndarray:
@@ -153,8 +181,7 @@ def lorentz_force(v, q, B, E=None) -> np.ndarray:
     v = np.asarray(v, dtype=float)
     if v.shape[-1] != 3:
         raise ValueError(f"lorentz_force needs 3D velocities, got shape {v.shape}")
-    q = np.asarray(q, dtype=float)
-    q = q[..., None] if q.ndim else q
+    q = _per_particle(q, v, "q")
     out = np.cross(v, np.asarray(B, dtype=float))
     if E is not None:
         out = out + np.asarray(E, dtype=float)
@@ -185,13 +212,23 @@ def attractor(center, strength: float, softening: float = 0.1):
 
 
 def angular_momentum(y, mass) -> np.ndarray:
-    """Total angular momentum ``Σ m (x v_y - y v_x)`` (2D, scalar) of a state or trajectory."""
-    x, v = split_state(y)
-    return np.sum(np.asarray(mass) * (x[..., 0] * v[..., 1] - x[..., 1] * v[..., 0]), axis=-1)
+    """Total angular momentum about the origin (kg m²/s) of a state or trajectory.
+
+    2D: ``Σ m (x v_y - y v_x)``, a scalar per state. 3D: ``Σ m x × v``, shape ``(3,)`` per
+    state. ``y`` is ``(2, N, d)``, ``(2, d)`` or a trajectory of them; ``mass`` scalar or ``(N,)``.
+    """
+    x, v = split_particles(y)
+    m = np.broadcast_to(np.asarray(mass, dtype=float), x.shape[-2:-1])
+    if x.shape[-1] == 2:
+        return np.sum(m * (x[..., 0] * v[..., 1] - x[..., 1] * v[..., 0]), axis=-1)
+    if x.shape[-1] == 3:
+        return np.sum(m[:, None] * np.cross(x, v), axis=-2)
+    raise ValueError(f"angular_momentum needs 2D or 3D particles, got d = {x.shape[-1]}")
 
 
 def nbody_energy(y, mass, G: float = 1.0, softening: float = 0.0) -> np.ndarray:
-    """Kinetic plus (softened) gravitational potential energy of a state or trajectory."""
-    x, v = split_state(y)
-    kinetic = 0.5 * np.sum(np.asarray(mass) * np.sum(v * v, axis=-1), axis=-1)
-    return kinetic + nbody_potential_energy(x, mass, G, softening)
+    """Kinetic plus (softened) gravitational potential energy (J) of a state or trajectory."""
+    x, v = split_particles(y)
+    m = np.broadcast_to(np.asarray(mass, dtype=float), x.shape[-2:-1])
+    kinetic = 0.5 * np.sum(m * np.sum(v * v, axis=-1), axis=-1)
+    return kinetic + nbody_potential_energy(x, m, G, softening)

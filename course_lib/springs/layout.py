@@ -46,7 +46,8 @@ class SpringLayout:
     n_slots : int
     """
 
-    def __init__(self, i: np.ndarray, j: np.ndarray, n: int, min_fill: float = MIN_FILL):
+    def __init__(self, i: np.ndarray, j: np.ndarray, n: int, min_fill: float | None = None):
+        min_fill = MIN_FILL if min_fill is None else min_fill
         lo, hi = np.minimum(i, j), np.maximum(i, j)
         offset = hi - lo
         self.n = n
@@ -85,26 +86,29 @@ class SpringLayout:
         out[self.slot] = values
         return out
 
-    def differences(self, rows: np.ndarray, out: np.ndarray, ends: tuple | None = None) -> np.ndarray:
-        """``x_lo - x_hi`` in every slot, from particle values given as rows ``(d, N)``.
+    def differences(self, rows: np.ndarray, out: np.ndarray, work: tuple | None = None) -> np.ndarray:
+        """``x_lo - x_hi`` in every slot, from particle values given as rows ``(d, N)`` (a
+        transposed view is fine).
 
-        ``out`` has shape ``(d, S)``; ``ends`` are two ``(d, G)`` work arrays for the
-        gathered springs.
+        ``out`` has shape ``(d, S)``; ``work`` holds three arrays for the gathered springs:
+        a contiguous copy of ``rows`` and the values at the ``lo`` and ``hi`` ends.
         """
         for o, a, b in self.bands:
             np.subtract(rows[:, :-o], rows[:, o:], out=out[:, a:b])
         if self.lo.size:
-            if ends is None:
-                ends = (np.empty((rows.shape[0], self.lo.size)),) * 2
-            at_lo, at_hi = ends
-            np.take(rows, self.lo, axis=1, out=at_lo, mode="clip")
-            np.take(rows, self.hi, axis=1, out=at_hi, mode="clip")
+            if work is None:
+                work = (np.empty(rows.shape), *(np.empty((rows.shape[0], self.lo.size)),) * 2)
+            contiguous, at_lo, at_hi = work
+            np.copyto(contiguous, rows)                # np.take wants contiguous rows
+            np.take(contiguous, self.lo, axis=1, out=at_lo, mode="clip")
+            np.take(contiguous, self.hi, axis=1, out=at_hi, mode="clip")
             np.subtract(at_lo, at_hi, out=out[:, self.gathered_start:])
         return out
 
     def accumulate(self, f: np.ndarray, out: np.ndarray, same_sign: bool = False) -> np.ndarray:
         """Add each slot's vector onto its particles: ``+f`` at ``lo`` and ``-f`` at ``hi``
-        (``+f`` at both with ``same_sign=True``). ``f`` is ``(d, S)``, ``out`` ``(d, N)``."""
+        (``+f`` at both with ``same_sign=True``). ``f`` is ``(d, S)``, ``out`` ``(d, N)`` (a
+        transposed view of an ``(N, d)`` array is fine)."""
         out.fill(0.0)
         add_hi = np.add if same_sign else np.subtract
         for o, a, b in self.bands:

@@ -67,9 +67,8 @@ class _Work:
 
     def __init__(self, layout: SpringLayout, dim: int):
         s, g = layout.n_slots, layout.lo.size
-        self.rows = np.empty((dim, layout.n))      # x (or v) transposed: one row per component
-        self.total = np.empty((dim, layout.n))     # per-particle sums, transposed
-        self.ends = (np.empty((dim, g)), np.empty((dim, g)))
+        # For the gathered springs: contiguous rows of x (or v), and the two ends.
+        self.gather = (np.empty((dim, layout.n if g else 0)), np.empty((dim, g)), np.empty((dim, g)))
         self.d = np.empty((dim, s))                # x_lo - x_hi in every slot
         self.rel = np.empty((dim, s))              # v_lo - v_hi
         self.f = np.empty((dim, s))
@@ -199,20 +198,17 @@ class SpringNetwork:
         of shape ``(N, d)``; returned component-major, shape ``(d, S)``."""
         p = self._check("p", p)
         w = self._workspace(p.shape[1])
-        np.copyto(w.rows, p.T)
         if out is None:
             out = np.empty((p.shape[1], self.layout.n_slots))
-        return self.layout.differences(w.rows, out, w.ends)
+        return self.layout.differences(p.T, out, w.gather)
 
     def slot_sums(self, f, same_sign: bool = False, out: np.ndarray | None = None) -> np.ndarray:
         """Per-particle sums ``(N, d)`` of per-slot vectors ``f`` of shape ``(d, S)``:
         ``+f`` at each ``lo`` end and ``-f`` at each ``hi`` end (``+f`` at both with
         ``same_sign=True``)."""
-        w = self._workspace(f.shape[0])
-        total = self.layout.accumulate(f, w.total, same_sign)
         if out is None:
-            return total.T.copy()
-        np.copyto(out, total.T)
+            out = np.empty((self.n_particles, f.shape[0]))
+        self.layout.accumulate(f, out.T, same_sign)
         return out
 
     def slot_coefficients(self, x, v=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
