@@ -1,49 +1,334 @@
-"""Grading end to end: run submissions in a kernel, read the checks' verdicts, write CSV."""
+"""Grading pieces that need no worker: reading files, the codec, the scans, replays, CSV.
 
+The replay test runs every exercise of every kit notebook through the same record ->
+JSON -> replay path the grader uses, in this process: the solutions must come out
+correct and the stubs pending, so no check in the kit depends on anything a replay
+cannot carry.
+"""
+
+import contextlib
+import copy
 import csv
+import io
+import json
+import subprocess
+import sys
+import textwrap
 
 import nbformat
+import numpy as np
+import pytest
+from notebook_helpers import ROOT
 
-from course_lib.instructor import grade_paths, make_student_notebook
+from course_lib.check import evaluate
+from course_lib.instructor import codec, grade, landlock
+from course_lib.instructor.kit import identify, load_kit
+from course_lib.instructor.notebooks import make_student_notebook
+from course_lib.instructor.scan import answer_binding, strip_magics, tamper_findings
+from course_lib.instructor.submissions import (
+    Cell,
+    Student,
+    Unreadable,
+    choose,
+    normalized,
+    read_notebook,
+    students,
+)
+from course_lib.instructor.verdicts import FIELDS, Row, judge
+from course_lib.instructor.worker import Recorder
 
-CHECK = '''from course_lib.check import exercise
-
-@exercise(points=2)
-def double(ck, fn):
-    ck.close(fn(2), 4, "fn(2)", mistakes={"you squared instead of doubling": 4.0 + 1e-3})
-    ck.close(fn(-3), -6, "fn(-3)", mistakes={"you squared instead of doubling": 9})
-'''
-ANSWER = '''def my_double(x):
-    ### BEGIN SOLUTION
-    return 2 * x
-    ### END SOLUTION
-
-double(my_double)'''
-
-
-def write(path, cells):
-    nb = nbformat.v4.new_notebook()
-    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
-    nb.cells = [nbformat.v4.new_code_cell(c) for c in cells]
-    nbformat.write(nb, path)
-    return nb
+KIT = load_kit(ROOT / "solutions")
 
 
-def test_grade_solution_student_and_wrong_submissions(tmp_path):
-    solution = write(tmp_path / "solution.ipynb", [CHECK, ANSWER])
-    nbformat.write(make_student_notebook(solution), tmp_path / "blank.ipynb")
-    write(tmp_path / "wrong.ipynb", [CHECK, ANSWER.replace("2 * x", "x * x")])
-    write(tmp_path / "crashes.ipynb", [CHECK, "1 / 0", ANSWER])
+# --- reading submissions ---------------------------------------------------------------
+
+@pytest.mark.parametrize("content,reason", [
+    (b"", "empty"),
+    (b"   \n", "empty"),
+    (b"{\"cells\": [", "not valid JSON"),
+    (bytes(range(256)), "not UTF-8"),
+    (b"[1, 2, 3]", "not a notebook"),
+    (b'{"answers": 42}', "not a notebook"),
+    (b'{"nbformat": 4, "cells": "no"}', "not a list"),
+    (b'{"nbformat": 4, "cells": [42]}', "cell 0 is not a notebook cell"),
+    (b'{"nbformat": 4, "cells": [{"cell_type": "code", "source": 7}]}', "neither text"),
+    (b'{"nbformat": 2, "worksheets": "x"}', "cannot be upgraded"),
+])
+def test_unreadable_files_say_why(tmp_path, content, reason):
+    path = tmp_path / "nb.ipynb"
+    path.write_bytes(content)
+    with pytest.raises(Unreadable, match=reason):
+        read_notebook(path)
+
+
+def test_too_large_file_is_refused_before_reading(tmp_path):
+    path = tmp_path / "big.ipynb"
+    path.write_bytes(b" " * 2048)
+    with pytest.raises(Unreadable, match="over the"):
+        read_notebook(path, max_bytes=1024)
+
+
+def test_v3_notebooks_are_upgraded_and_sources_joined(tmp_path):
+    nb = nbformat.read(ROOT / "solutions" / "02_forward_euler.ipynb", as_version=4)
+    nbformat.write(nbformat.convert(copy.deepcopy(nb), 3), tmp_path / "v3.ipynb", version=3)
+    read = read_notebook(tmp_path / "v3.ipynb")
+    assert "upgraded from nbformat 3" in read.note
+    assert [c.source for c in read.code] == [c.source for c in nb.cells if c.cell_type == "code"]
+    raw = {"nbformat": 4, "nbformat_minor": 5, "metadata": {},
+           "cells": [{"cell_type": "code", "source": ["a = 1\n", "b = 2"], "id": "x"}]}
+    (tmp_path / "lines.ipynb").write_text("\ufeff" + json.dumps(raw), "utf-8")  # BOM too
+    assert read_notebook(tmp_path / "lines.ipynb").cells == [Cell(0, "code", "a = 1\nb = 2", "x")]
+
+
+@pytest.mark.parametrize("name", ["02_forward_euler.ipynb", "02_Forward_Euler (1).ipynb",
+                                  "02_forward_euler-Copy1.ipynb", "02 forward euler.ipynb.json",
+                                  "02_FORWARD_EULER_v2.IPYNB", "02_forward_euler final.txt"])
+def test_file_names_normalize_to_the_assignment(name):
+    assert normalized(name) == "02_forward_euler"
+
+
+def test_roster_ignores_hidden_files_checkpoints_and_links(tmp_path):
+    (tmp_path / "ann" / ".ipynb_checkpoints").mkdir(parents=True)
+    (tmp_path / "ann" / ".ipynb_checkpoints" / "02_forward_euler-checkpoint.ipynb").write_text("{}")
+    (tmp_path / "ann" / ".hidden.ipynb").write_text("{}")
+    (tmp_path / "ann" / "02_forward_euler.ipynb").write_text("{}")
+    (tmp_path / "ann" / "link.ipynb").symlink_to(ROOT / "solutions" / "02_forward_euler.ipynb")
+    (tmp_path / "ann" / "linked_dir").symlink_to(ROOT / "solutions")
+    (tmp_path / ".git").mkdir()
+    roster = students([tmp_path])
+    assert [s.name for s in roster] == ["ann"]
+    assert [p.name for p in roster[0].files] == ["02_forward_euler.ipynb"]
+
+
+def test_choose_prefers_the_exact_name_then_content(tmp_path):
+    a02 = KIT["02_forward_euler"]
+    sol = nbformat.read(a02.path, as_version=4)
+    nbformat.write(sol, tmp_path / "mine.ipynb")
+    pick = choose(Student("s", [tmp_path / "mine.ipynb"]), a02, KIT)
+    assert pick.path.name == "mine.ipynb" and "content" in pick.note
+    assert choose(Student("s", []), a02, KIT).path is None
+
+
+def test_identify_by_ids_functions_or_import():
+    nb = read_notebook(ROOT / "notebooks" / "05_newtons_second_law.ipynb")
+    assert identify(nb.cells, KIT) == "05_newtons_second_law"
+    bare = [Cell(0, "code", "def radius_after(r0, dt, n):\n    return 0")]
+    assert identify(bare, KIT) == "02_forward_euler"
+    assert identify([Cell(0, "code", "x = 1")], KIT) is None
+
+
+# --- codec -----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("value", [None, True, 3, -2**80, 1.5, float("inf"), 2 - 1j, "text",
+                                   [1, (2.5, "a")], {"X": np.arange(4.0), 3: None},
+                                   np.float32(0.25), np.bool_(False), np.zeros((2, 3), complex)])
+def test_codec_round_trips_exactly(value):
+    back = codec.decode(json.loads(json.dumps(codec.encode(value))))
+    assert type(back) is type(value)
+    assert codec.fingerprint(back) == codec.fingerprint(value)
+
+
+def test_codec_never_carries_code_or_objects():
+    for value in (object(), (x for x in []), np.array([object()]), lambda: 1):
+        back = codec.decode(json.loads(json.dumps(codec.encode(value))))
+        assert isinstance(back, codec.Opaque)
+        with pytest.raises(TypeError):
+            np.asarray(back, dtype=float)
+    with pytest.raises(ValueError):
+        codec.decode({"pickle": "gASVCAAAAAAAAACMBG9zlC4="})
+    obj_npy = {"npy": codec._npy(np.arange(3)).replace("A", "B", 1)}
+    with pytest.raises(ValueError):
+        codec.decode(obj_npy)
+    with pytest.raises(codec.EncodingLimit):
+        codec.encode(np.zeros(10**6), max_bytes=10**5)
+
+
+def test_rebuilt_exceptions_keep_name_and_never_stop_the_grader():
+    for exc in (ZeroDivisionError("x"), SystemExit(3), KeyboardInterrupt()):
+        rebuilt = codec.rebuild_exception(codec.exception_record(exc))
+        assert type(rebuilt).__name__ == type(exc).__name__ and isinstance(rebuilt, Exception)
+    assert isinstance(codec.rebuild_exception(codec.exception_record(NotImplementedError())),
+                      NotImplementedError)
+
+
+# --- static scans ----------------------------------------------------------------------
+
+def test_kit_notebooks_raise_no_tampering_and_use_no_reference():
+    for path in sorted((ROOT / "solutions").glob("*.ipynb")) + sorted((ROOT / "notebooks").glob("*.ipynb")):
+        nb = read_notebook(path)
+        assert tamper_findings(nb.cells) == [], path.name
+        if path.stem in KIT:
+            a = KIT[path.stem]
+            for e in a.exercises:
+                binding = answer_binding(nb.cells, e.name, a.check(e))
+                assert binding.kind == "def" and binding.reference is None, (path.name, e.name)
+
+
+TAMPER = {
+    "check.RESULTS['nb02.x'] = {}": "modifies course_lib",
+    "from course_lib.check import RESULTS": "internals",
+    "import course_lib.check as c\nc.Checker.close = None": "modifies course_lib",
+    "check.forward_euler_step = print": "modifies course_lib",
+    "setattr(check, 'drift_dt', print)": "setattr",
+    "np.allclose = lambda *a, **k: True": "imported module",
+    "import sys\nsys.modules['course_lib.check'] = None": "replaces modules",
+    "import gc\ngc.get_objects()": "searches",
+    "import inspect\ninspect.currentframe().f_back": "frames",
+    "import os\nos.write(3, b'x')": "raw file descriptors",
+    "import signal\nsignal.alarm(0)": "signal",
+    "print('\u2705 drift_dt: correct')": "forged verdict",
+    "open(cl.__file__)": "course_lib's files",
+    "open('../solutions/02_forward_euler.ipynb')": "solutions folder",
+    "x = __import__('course_lib')": "__import__",
+}
+
+
+@pytest.mark.parametrize("code", TAMPER, ids=list(TAMPER.values()))
+def test_tampering_is_found_without_running_the_code(code):
+    head = "import numpy as np\nimport course_lib as cl\nfrom course_lib.check import nb02 as check\n"
+    found = tamper_findings([Cell(0, "code", head), Cell(1, "code", code)])
+    assert any(TAMPER[code] in f.what for f in found), found
+
+
+def test_magics_become_harmless_python():
+    src = "%matplotlib inline\nfiles = !ls\nif True:\n    !rm -rf /\nx = 1"
+    assert strip_magics(src).splitlines()[4] == "x = 1"
+    compile(strip_magics(src), "cell", "exec")
+    assert "rm" not in strip_magics(src).split("#")[0]
+
+
+@pytest.mark.parametrize("body,flagged", [
+    ("return cl.forward_euler(f, t, y, dt)", "course_lib"),
+    ("from course_lib.integrators import forward_euler as fe\n    return fe(f, t, y, dt)", "forward_euler"),
+    ("step = cl.forward_euler\n    return step(f, t, y, dt)", "forward_euler"),
+    ("return (lambda: check.forward_euler_step)()", "check"),
+    ("return y + dt * f(t, y)", None),
+    ("return y + dt * cl.fields.vortex(t, y)", None),
+])
+def test_reference_use_in_the_grader_and_in_the_check(body, flagged):
+    head = "import course_lib as cl\nfrom course_lib.check import nb02 as check\n"
+    source = f"def forward_euler_step(f, t, y, dt):\n    {body}\n"
+    a02 = KIT["02_forward_euler"]
+    check = a02.check(a02.exercises[0])
+    binding = answer_binding([Cell(0, "code", head), Cell(1, "code", source)], "forward_euler_step", check)
+    namespace = {"__name__": "__main__"}
+    exec(compile(head + source, "<cell>", "exec"), namespace)
+    verdict = evaluate(check, namespace["forward_euler_step"])
+    if flagged:
+        assert flagged in binding.reference and "uses the reference" in binding.reference
+        assert verdict["status"] == "incorrect" and "uses the reference" in verdict["failed_cases"][0]
+    else:
+        assert binding.reference is None and verdict["reference"] is None
+
+
+# --- replaying recorded calls ----------------------------------------------------------
+
+def _record(check, fn) -> dict:
+    recorder = Recorder(fn, codec, np, 8 << 20)
+    with contextlib.redirect_stdout(io.StringIO()):
+        evaluate(check, recorder)
+    return json.loads(json.dumps({"calls": recorder.calls}))
+
+
+@pytest.mark.parametrize("name", sorted(KIT))
+def test_every_kit_exercise_replays_to_the_same_verdict(name):
+    a = KIT[name]
+    for nb, expected in ((nbformat.read(a.path, as_version=4), "correct"),
+                         (make_student_notebook(nbformat.read(a.path, as_version=4)), "pending")):
+        code = [c.source for c in nb.cells if c.cell_type == "code"]
+        namespace = {"__name__": "__main__"}
+        with contextlib.redirect_stdout(io.StringIO()):
+            exec(code[0], namespace)
+            for src in code:
+                if any(f"def {e.name}(" in src for e in a.exercises):
+                    exec(src, namespace)
+        for e in a.exercises:
+            status, message, _ = judge(a.check(e), _record(a.check(e), namespace[e.name]), 10)
+            assert status == expected, (name, e.name, message)
+
+
+def test_replay_keeps_hints_mutations_and_exceptions():
+    a02 = KIT["02_forward_euler"]
+    check = a02.check(a02.exercises[0])
+
+    def at_end(f, t, y, dt):
+        return y + dt * f(t + dt, y)
+
+    def in_place(f, t, y, dt):
+        y += dt * f(t, y)
+        return y
+
+    def crashes(f, t, y, dt):
+        return y[5]
+
+    status, message, _ = judge(check, _record(check, at_end), 10)
+    assert status == "incorrect" and "START of the step" in message
+    status, message, details = judge(check, _record(check, in_place), 10)
+    assert status == "incorrect" and any("changed its input" in c for c in details["failed_cases"])
+    status, message, _ = judge(check, _record(check, crashes), 10)
+    assert status == "error" and "IndexError" in message
+
+
+def test_replay_refuses_records_made_with_other_inputs():
+    a02 = KIT["02_forward_euler"]
+    check = a02.check(a02.exercises[1])
+    def fresh():
+        return _record(check, lambda r0, dt, n: r0 * (1 + dt**2) ** (n / 2))
+
+    assert judge(check, fresh(), 10)[0] == "correct"
+    record = fresh()
+    record["calls"][1]["fp"] = "0" * 24
+    assert judge(check, record, 10)[0] == "tampered"
+    record = fresh()
+    record["calls"] = record["calls"][:2]
+    assert judge(check, record, 10)[0] == "tampered"
+    record["calls"][-1] = {"fp": record["calls"][-1]["fp"], "timeout": True}
+    assert judge(check, {**record, "timeout": True}, 10)[0] == "timeout"
+
+
+# --- sandbox pieces and the gradebook ----------------------------------------------------
+
+@pytest.mark.skipif(landlock.abi_version() == 0, reason="kernel without Landlock")
+def test_landlock_confines_a_process(tmp_path):
+    (tmp_path / "inside").mkdir()
+    secret = tmp_path / "secret.txt"
+    secret.write_text("solution")
+    code = textwrap.dedent(f"""
+        import sys
+        from course_lib.instructor import landlock
+        landlock.restrict([sys.prefix, sys.base_prefix, "/usr", "/lib"], [{str(tmp_path / 'inside')!r}])
+        open({str(tmp_path / 'inside' / 'ok.txt')!r}, "w").write("fine")
+        for action in (lambda: open({str(secret)!r}).read(), lambda: open({str(secret)!r}, "w")):
+            try:
+                action()
+                print("ALLOWED")
+            except PermissionError:
+                print("denied")
+    """)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["denied", "denied"]
+    assert (tmp_path / "inside" / "ok.txt").read_text() == "fine" and secret.read_text() == "solution"
+
+
+def test_an_interrupted_run_leaves_a_valid_gradebook(tmp_path, monkeypatch):
+    for name in ("amy", "ben", "cy"):
+        (tmp_path / "class" / name).mkdir(parents=True)
+        nbformat.write(nbformat.read(ROOT / "notebooks" / "02_forward_euler.ipynb", as_version=4),
+                       tmp_path / "class" / name / "02_forward_euler.ipynb")
+    calls = []
+
+    def fake(task, runtime, kit, limits):
+        calls.append(task.student)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return [Row(task.student, task.assignment.name, e.name, "pending", e.points, "stub")
+                for e in task.assignment.exercises]
+
+    monkeypatch.setattr(grade, "grade_task", fake)
     out = tmp_path / "grades.csv"
-    rows = grade_paths([tmp_path], out)
-    by_file = {r["submission"].rsplit("/", 1)[-1]: r for r in rows}
-    assert by_file["solution.ipynb"]["status"] == "correct"
-    assert by_file["solution.ipynb"]["points"] == 2
-    assert by_file["blank.ipynb"]["status"] == "pending"
-    assert by_file["blank.ipynb"]["points"] == 0
-    assert by_file["wrong.ipynb"]["status"] == "incorrect"
-    assert (by_file["wrong.ipynb"]["passed"], by_file["wrong.ipynb"]["total"]) == (1, 2)
-    # an error in an unrelated cell does not stop grading of the rest
-    assert by_file["crashes.ipynb"]["status"] == "correct"
+    with pytest.raises(KeyboardInterrupt):
+        grade.grade_class([tmp_path / "class"], out, solutions=ROOT / "solutions", jobs=1, progress=False)
     with out.open() as fh:
-        assert len(list(csv.DictReader(fh))) == 4
+        rows = list(csv.DictReader(fh))
+    assert list(rows[0]) == FIELDS and len(rows) == 2 * 3
+    assert {r["student"] for r in rows} == set(calls[:2])

@@ -111,7 +111,7 @@ def _grade_task(task: Task, runtime: Runtime, kit: dict[str, Assignment], limits
                        if run.out_of_time else "the notebook's process stopped before this exercise")
         elif record.get("lost"):
             status = "timeout" if record.get("timeout") else "error"
-            message = f"while checking {e.name}, the notebook's process {record['lost']}"
+            message = f"while checking {e.name}: {record['lost']}"
         elif not record.get("found"):
             status, message, details = _missing_reason(nb, run, e.name)
         elif not record.get("callable"):

@@ -244,8 +244,8 @@ def _attempt(runtime, notebook_file, cells, check_module, exercises, limits, ski
         return False
     if kind == "cell":
         skip_cells.add(what)
-        run.cells[what] = {"status": "killed", "error": how, "output": "", "dropped": 0}
-        run.notes.append(f"cell {what}: {how}; the grader ran the notebook again without it")
+        run.cells[what] = {"status": "killed", "output": "", "dropped": 0,
+                           "error": f"{how}; the grader ran the notebook again without this cell"}
     elif kind == "exercise":
         run.exercises[what] = {"name": what, "lost": how, "timeout": "time" in how}
     return False
