@@ -56,6 +56,44 @@ def constant_gravity(mass, g=G_EARTH):
     return F
 
 
+#: Pairs per block of the N-body sums: the three work arrays (3 × PAIR_BLOCK floats) stay
+#: in cache however many bodies there are.
+PAIR_BLOCK = 32768
+_WORK: dict[str, np.ndarray] = {}
+
+
+def _work(name: str, size: int) -> np.ndarray:
+    """A cached flat float buffer of at least ``size`` entries (reused between calls)."""
+    buf = _WORK.get(name)
+    if buf is None or buf.size < size:
+        buf = _WORK[name] = np.empty(size)
+    return buf[:size]
+
+
+def _inverse_distance_blocks(x: np.ndarray, softening: float, power: int):
+    """Yield ``(a, b, w)``: rows ``a:b`` of ``w_ij = (|x_i - x_j|² + ε²)^(-power/2)``.
+
+    ``w`` has shape ``(b - a, N)``, is zero on the self pairs ``i == j``, and is a work
+    array overwritten by the next block (the caller may scale it in place).
+    """
+    n, dim = x.shape
+    rows = max(1, min(n, PAIR_BLOCK // max(n, 1)))
+    diff, dist2, w = (_work(name, rows * n) for name in ("diff", "dist2", "w"))
+    for a in range(0, n, rows):
+        b = min(n, a + rows)
+        shape = (b - a, n)
+        df, d2, ww = (buf[: (b - a) * n].reshape(shape) for buf in (diff, dist2, w))
+        d2.fill(softening**2)
+        for k in range(dim):
+            np.subtract(x[a:b, k, None], x[None, :, k], out=df)
+            np.multiply(df, df, out=df)
+            d2 += df
+        own = np.arange(a, b)
+        d2[own - a, own] = np.inf                          # no self-pair: w = 0
+        np.power(d2, -0.5 * power, out=ww)
+        yield a, b, ww
+
+
 def nbody_gravity_force(x, mass, G: float = 1.0, softening: float = 0.0) -> np.ndarray:
     """Pairwise Newtonian gravitation ``F_i = -Σ_j G m_i m_j r_ij / (|r_ij|² + ε²)^{3/2}``.
 
