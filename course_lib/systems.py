@@ -3,7 +3,9 @@
 Newton's second law ``m x'' = F(t, x, v)`` becomes two first-order equations,
 ``x' = v`` and ``v' = F / m``. We stack position and velocity along the first axis,
 ``y = (x, v)`` of shape ``(2, N, d)`` for ``N`` particles in ``d`` dimensions, so that
-every integrator applies, and the symplectic ones can tell ``x`` from ``v``.
+every integrator applies, and the symplectic ones can tell ``x`` from ``v``. A single
+particle may also be stored without the particle axis: ``x`` of shape ``(d,)``, ``y`` of
+shape ``(2, d)``. Imports: numpy and ``_validate`` (core layer).
 """
 
 from __future__ import annotations
@@ -39,15 +41,35 @@ def split_state(y) -> tuple[np.ndarray, np.ndarray]:
     raise ValueError(f"y must be a stacked state (2, ...) or trajectory (n, 2, ...), got {y.shape}")
 
 
+def split_particles(y) -> tuple[np.ndarray, np.ndarray]:
+    """``(x, v)`` of a state or trajectory with the particle axis always present.
+
+    Accepts a state ``(2, N, d)`` or ``(2, d)`` (one particle) and a trajectory
+    ``(n, 2, N, d)`` or ``(n, 2, d)``; returns views of shape ``(..., N, d)`` (``N = 1``
+    for one particle). A ``(2, 2, d)`` array is read as a state of two particles.
+    """
+    y = np.asarray(y)
+    if y.ndim == 2 and y.shape[0] == 2:
+        return y[0][None], y[1][None]
+    if y.ndim == 3 and y.shape[0] == 2:
+        return y[0], y[1]
+    if y.ndim == 3 and y.shape[1] == 2:
+        return y[:, 0, None], y[:, 1, None]
+    if y.ndim == 4 and y.shape[1] == 2:
+        return y[:, 0], y[:, 1]
+    raise ValueError("y must be a particle state (2, N, d) or (2, d), or a trajectory of "
+                     f"them (n, 2, N, d) or (n, 2, d); got shape {y.shape}")
+
+
 def sum_forces(*forces: Force) -> Force:
     """The net force: ``F(t, x, v) = Σ forces_i(t, x, v)``."""
     for i, fn in enumerate(forces):
-        _validate.callable_arg(f"forces[{i}]", fn)
+        _validate.callable_arg(f"forces[{i}]", fn, "(t, x, v)")
 
     def net(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-        total = np.zeros_like(x)
+        total = np.zeros(np.shape(x), dtype=np.result_type(x, float))
         for fn in forces:
-            total = total + fn(t, x, v)
+            total += fn(t, x, v)
         return total
 
     return net
@@ -59,7 +81,8 @@ class NewtonianSystem:
     Parameters
     ----------
     force : callable
-        ``force(t, x, v) -> F`` with ``x``, ``v``, ``F`` of shape ``(N, d)`` (N).
+        ``force(t, x, v) -> F`` with ``x``, ``v``, ``F`` of shape ``(N, d)`` (N), or
+        ``(d,)`` for a single particle.
     mass : float or array_like, shape (N,)
         Masses (kg), > 0.
     pinned : sequence of int, optional
@@ -68,43 +91,64 @@ class NewtonianSystem:
 
     Notes
     -----
-    Calling the system returns ``dy/dt = (v, F/m)`` with ``y = (x, v)``. For a single
-    particle, states of shape ``(2, d)`` work too (``mass`` a scalar).
+    Calling the system returns a new array ``dy/dt = (v, F/m)`` with ``y = (x, v)``. For
+    a single particle, states of shape ``(2, d)`` work too.
     """
 
     def __init__(self, force: Force, mass, pinned: Sequence[int] | None = None):
-        self.force = _validate.callable_arg("force", force)
+        self.force = _validate.callable_arg("force", force, "(t, x, v)")
         m = _validate.state_array("mass", mass)
-        if np.any(m <= 0):
-            raise ValueError("mass must be > 0 for every particle")
+        if np.iscomplexobj(m) or m.ndim > 1 or np.any(m <= 0):
+            raise ValueError(f"mass must be a real number > 0 or an (N,) array of them, got {m}")
         self.mass = m
-        self.pinned = np.asarray([] if pinned is None else pinned, dtype=int)
+        p = np.asarray([] if pinned is None else pinned)
+        if p.size and (p.ndim != 1 or not np.issubdtype(p.dtype, np.integer)):
+            raise TypeError(f"pinned must be a sequence of particle indices (ints), got {pinned!r}")
+        p = p.astype(int)
+        if p.size and (p.min() < 0 or (m.ndim == 1 and p.max() >= m.size)):
+            raise ValueError(f"pinned indices must lie in [0, N) with N = {m.size if m.ndim else 'N'}"
+                             f", got {p.tolist()}")
+        self.pinned = p
+
+    def _mass_column(self, x: np.ndarray) -> np.ndarray | float:
+        if self.mass.ndim == 0:
+            return self.mass
+        n = x.shape[0] if x.ndim >= 2 else 1
+        if self.mass.size != n:
+            raise ValueError(f"mass has {self.mass.size} entries but the state has {n} "
+                             "particle(s)")
+        return self.mass.reshape(-1, *([1] * (x.ndim - 1))) if x.ndim >= 2 else self.mass[0]
 
     def acceleration(self, t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """``F / m`` (m/s²), zero for pinned particles; shape of ``x``."""
         F = np.asarray(self.force(t, x, v))
         if F.shape != x.shape:
             raise ValueError(f"force must return the shape of x, {x.shape}, got {F.shape}")
-        m = self.mass if self.mass.ndim == 0 else self.mass.reshape(-1, *([1] * (x.ndim - 1)))
-        a = F / m
+        a = F / self._mass_column(x)          # a new array, even if force reuses a buffer
         if self.pinned.size:
-            a[self.pinned] = 0.0
+            if x.ndim == 1:
+                a[...] = 0.0
+            else:
+                a[self.pinned] = 0.0
         return a
 
     def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
-        x, v = y[0], y[1]
-        return np.stack((v, self.acceleration(t, x, v)))
+        out = np.empty(y.shape, dtype=np.result_type(y, float))
+        out[0] = y[1]
+        out[1] = self.acceleration(t, y[0], y[1])
+        return out
 
     def kinetic_energy(self, y) -> np.ndarray:
-        """``½ Σ m |v|²`` (J) of a state ``(2, N, d)`` or a trajectory ``(n, 2, N, d)``."""
-        _, v = split_state(y)
-        speed2 = np.sum(v**2, axis=-1)
-        return 0.5 * np.sum(np.broadcast_to(self.mass, speed2.shape[-1:]) * speed2, axis=-1)
+        """``½ Σ m |v|²`` (J) of a state (scalar) or a trajectory (``(n,)``)."""
+        _, v = split_particles(y)
+        m = np.broadcast_to(self.mass, v.shape[-2:-1])
+        return 0.5 * np.sum(m * np.sum(v * v, axis=-1), axis=-1)
 
     def momentum(self, y) -> np.ndarray:
         """Total linear momentum ``Σ m v`` (kg m/s), shape ``(d,)`` or ``(n, d)``."""
-        _, v = split_state(y)
-        m = np.broadcast_to(self.mass, v.shape[-2:-1])[:, None]
-        return np.sum(m * v, axis=-2)
+        _, v = split_particles(y)
+        m = np.broadcast_to(self.mass, v.shape[-2:-1])
+        return np.sum(m[:, None] * v, axis=-2)
 
 
 def newtonian(force: Force, mass, pinned: Sequence[int] | None = None) -> NewtonianSystem:
