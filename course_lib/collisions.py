@@ -4,12 +4,36 @@ These act on a stacked state ``y = (x, v)`` of shape ``(2, N, d)`` and suit
 ``integrate(..., post_step=...)``. A penetrating particle is moved to the surface; the
 normal part of its velocity is reversed and scaled by the restitution ``e`` (``e = 0``
 removes it, ``e = 1`` is a perfect bounce) and its tangential part is reduced by Coulomb
-friction ``μ`` (at most to zero).
+friction ``μ`` (at most to zero). A single particle may be stored as ``y`` of shape
+``(2, d)``. Every argument is checked when the response is built (``ValueError`` naming
+it), and the state's dimension when it is applied. Imports: numpy, ``_validate`` (core).
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from . import _validate
+
+
+def _coefficients(restitution: float, friction: float) -> tuple[float, float]:
+    restitution = _validate.finite_real("restitution", restitution)
+    friction = _validate.finite_real("friction", friction)
+    if not 0 <= restitution <= 1:
+        raise ValueError(f"restitution must lie in [0, 1], got {restitution}")
+    if friction < 0:
+        raise ValueError(f"friction must be >= 0, got {friction}")
+    return restitution, friction
+
+
+def _particles(y, dim: int, what: str) -> tuple[np.ndarray, np.ndarray, bool]:
+    """``(x, v)`` as ``(N, d)`` arrays, and whether ``y`` was a single particle ``(2, d)``."""
+    y = np.asarray(y, dtype=float)
+    single = y.ndim == 2
+    if y.ndim not in (2, 3) or y.shape[0] != 2 or y.shape[-1] != dim:
+        raise ValueError(f"y must be a state (2, N, {dim}) or (2, {dim}) to collide with this "
+                         f"{dim}-D {what}, got shape {y.shape}")
+    return (y[0][None], y[1][None], True) if single else (y[0], y[1], False)
 
 
 def _respond(v, normal, hit, restitution, friction):
@@ -29,25 +53,26 @@ def _respond(v, normal, hit, restitution, friction):
 
 def plane(normal=(0.0, 1.0, 0.0), offset: float = 0.0, restitution: float = 0.5,
           friction: float = 0.0):
-    """Post-step collision with the half-space ``n·x >= offset`` (e.g. the ground ``y >= 0``)."""
-    n = np.asarray(normal, dtype=float)
+    """Post-step collision with the half-space ``n·x >= offset`` (e.g. the ground ``y >= 0``).
+
+    ``normal`` is any non-zero finite vector (normalized here; its length sets the
+    dimension ``d``), ``offset`` in metres along it.
+    """
+    n = _validate.vector("normal", normal, nonzero=True)
     n = n / np.linalg.norm(n)
-    if not 0 <= restitution <= 1:
-        raise ValueError(f"restitution must lie in [0, 1], got {restitution}")
-    if friction < 0:
-        raise ValueError(f"friction must be >= 0, got {friction}")
+    offset = _validate.finite_real("offset", offset)
+    restitution, friction = _coefficients(restitution, friction)
 
     def post_step(t, y):
-        x, v = y[0], y[1]
-        if x.ndim == 1:
-            return post_step(t, y[:, None, :])[:, 0, :]
+        x, v, single = _particles(y, n.size, "plane")
         depth = offset - x @ n
         hit = depth > 0
         if not hit.any():
-            return y
+            return np.asarray(y, dtype=float)
         x_new = x + np.where(hit, depth, 0.0)[:, None] * n
-        normals = np.broadcast_to(n, x.shape)
-        return np.stack((x_new, _respond(v, normals, hit, restitution, friction)))
+        out = np.stack((x_new, _respond(v, np.broadcast_to(n, x.shape), hit, restitution,
+                                        friction)))
+        return out[:, 0] if single else out
 
     return post_step
 
@@ -55,28 +80,44 @@ def plane(normal=(0.0, 1.0, 0.0), offset: float = 0.0, restitution: float = 0.5,
 def sphere(center=(0.0, 0.0, 0.0), radius: float = 1.0, restitution: float = 0.0,
            friction: float = 0.0):
     """Post-step collision with a solid sphere (a head): particles inside are projected to
-    its surface and lose their inward normal velocity."""
-    c = np.asarray(center, dtype=float)
+    its surface and lose their inward normal velocity.
+
+    A particle exactly at the centre has no outward direction; it leaves against its
+    velocity (back the way it came), or along ``+y`` (the first axis in 1-D) at rest.
+    """
+    c = _validate.vector("center", center)
+    radius = _validate.finite_real("radius", radius)
     if radius <= 0:
         raise ValueError(f"radius must be > 0, got {radius}")
+    restitution, friction = _coefficients(restitution, friction)
+    up = np.zeros(c.size)
+    up[min(1, c.size - 1)] = 1.0
 
     def post_step(t, y):
-        x, v = y[0], y[1]
+        x, v, single = _particles(y, c.size, "sphere")
         r = x - c
         dist = np.linalg.norm(r, axis=1)
         # A particle resting exactly on the surface must not be nudged by round-off.
         hit = dist < radius * (1.0 - 1e-12)
         if not hit.any():
-            return y
-        normals = r / np.maximum(dist, 1e-12)[:, None]
+            return np.asarray(y, dtype=float)
+        normals = r / np.where(dist > 0, dist, 1.0)[:, None]
+        centred = hit & (dist == 0)
+        if centred.any():
+            speed = np.linalg.norm(v[centred], axis=1, keepdims=True)
+            away = np.where(speed > 0, -v[centred] / np.where(speed > 0, speed, 1.0), up)
+            normals[centred] = away
         x_new = np.where(hit[:, None], c + radius * normals, x)
-        return np.stack((x_new, _respond(v, normals, hit, restitution, friction)))
+        out = np.stack((x_new, _respond(v, normals, hit, restitution, friction)))
+        return out[:, 0] if single else out
 
     return post_step
 
 
 def chain(*post_steps):
     """Apply several post-step functions in turn."""
+    for i, p in enumerate(post_steps):
+        _validate.callable_arg(f"post_steps[{i}]", p)
 
     def post_step(t, y):
         for p in post_steps:

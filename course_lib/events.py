@@ -10,11 +10,23 @@ to be located from the samples around it. Two rules are provided:
 - **ballistic**: from the last state above the level, solve the step's own quadratic
   ``h + v s + ½ a s² = level`` for the time ``s`` into the step (exact under a constant
   acceleration ``a``, the motion that velocity Verlet reproduces exactly).
+
+Samples must be 1-D arrays of one length (``ValueError`` naming them otherwise).
+Imports: numpy only (core layer).
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+
+def _samples(t, h, names: str = "t, h") -> tuple[np.ndarray, np.ndarray]:
+    t = np.asarray(t, dtype=float)
+    h = np.asarray(h, dtype=float)
+    if t.ndim != 1 or t.shape != h.shape:
+        raise ValueError(f"{names} must be 1-D arrays of one length, got shapes {t.shape} and "
+                         f"{h.shape}")
+    return t, h
 
 
 def crossing_linear(t0: float, h0: float, t1: float, h1: float, level: float = 0.0) -> float:
@@ -66,8 +78,9 @@ def first_crossing(t, h, level: float = 0.0, *, rule: str = "linear", v=None, a=
     float
         The crossing time (s), or NaN when ``h`` never goes below ``level``.
     """
-    t = np.asarray(t, dtype=float)
-    h = np.asarray(h, dtype=float)
+    if rule not in ("linear", "ballistic"):
+        raise ValueError(f"unknown rule {rule!r}; use 'linear' or 'ballistic'")
+    t, h = _samples(t, h)
     below = np.flatnonzero(h < level)
     if below.size == 0:
         return float("nan")
@@ -76,12 +89,10 @@ def first_crossing(t, h, level: float = 0.0, *, rule: str = "linear", v=None, a=
         return float(t[0])
     if rule == "linear":
         return crossing_linear(t[k - 1], h[k - 1], t[k], h[k], level)
-    if rule == "ballistic":
-        if v is None or a is None:
-            raise ValueError("rule='ballistic' needs the velocities v and the acceleration a")
-        s = crossing_ballistic(h[k - 1], np.asarray(v, dtype=float)[k - 1], float(a), level)
-        return float(t[k - 1] + s)
-    raise ValueError(f"unknown rule {rule!r}; use 'linear' or 'ballistic'")
+    if v is None or a is None:
+        raise ValueError("rule='ballistic' needs the velocities v and the acceleration a")
+    s = crossing_ballistic(h[k - 1], np.asarray(v, dtype=float)[k - 1], float(a), level)
+    return float(t[k - 1] + s)
 
 
 def upward_crossings(t, s, level: float = 0.0) -> np.ndarray:
@@ -90,8 +101,8 @@ def upward_crossings(t, s, level: float = 0.0) -> np.ndarray:
     Vectorized over the samples. Useful for periods: the y-coordinate of an orbit crosses
     zero upwards once per turn.
     """
-    t = np.asarray(t, dtype=float)
-    s = np.asarray(s, dtype=float) - level
+    t, s = _samples(t, s, "t, s")
+    s = s - level
     k = np.flatnonzero((s[:-1] < 0) & (s[1:] >= 0))
     return t[k] + (t[k + 1] - t[k]) * (-s[k]) / (s[k + 1] - s[k])
 
@@ -111,8 +122,7 @@ def local_maxima(t, h) -> tuple[np.ndarray, np.ndarray]:
     by an integrator that is exact for constant acceleration). Needs equally spaced ``t``.
     Returns the peak times and heights.
     """
-    t = np.asarray(t, dtype=float)
-    h = np.asarray(h, dtype=float)
+    t, h = _samples(t, h)
     k = 1 + np.flatnonzero((h[1:-1] > h[:-2]) & (h[1:-1] >= h[2:]))
     a, b, c = h[k - 1], h[k], h[k + 1]
     denom = a - 2.0 * b + c
