@@ -2,7 +2,8 @@
 
 Every field follows the ``f(t, y)`` convention of :func:`course_lib.integrate`, with
 positions ``X`` of shape ``(..., 2)`` (one particle ``(2,)``, or many ``(N, 2)``), so a
-field can be integrated directly: ``integrate(vortex, X0, (0, 1), 0.1)``.
+field can be integrated directly: ``integrate(vortex, X0, (0, 1), 0.1)``. Every field
+returns a new array. Imports: numpy, ``_validate`` (core layer).
 """
 
 from __future__ import annotations
@@ -79,7 +80,9 @@ def compose(*fields: Field) -> Field:
 
 
 def grid(extent: float = 2.0, n: int = 15) -> tuple[np.ndarray, np.ndarray]:
-    """A square ``n × n`` grid on ``[-extent, extent]²`` for quiver and stream plots."""
+    """A square ``n × n`` grid on ``[-extent, extent]²`` (m) for quiver and stream plots."""
+    extent = _validate.positive_finite("extent", extent)
+    n = _validate.positive_int("n", n)
     s = np.linspace(-extent, extent, n)
     return np.meshgrid(s, s)
 
