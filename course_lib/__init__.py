@@ -18,11 +18,24 @@ The pieces follow Baraff & Witkin's split: a model exposes ``f(t, y) -> dy/dt``
 such ``f`` without knowing the physics.
 """
 
-from . import collisions, events, fields, forces, hair, springs, stability, systems
-from .implicit import ConvergenceError
+from . import (
+    collisions,
+    events,
+    fields,
+    forces,
+    hair,
+    implicit,
+    springs,
+    stability,
+    steppers,
+    systems,
+    timegrid,
+)
+from .implicit import ConvergenceError, NewtonSolver
 from .integrators import (
     EVALS_PER_STEP,
     IMPLICIT_METHODS,
+    MAX_STEPS,
     METHODS,
     NEWTONIAN_METHODS,
     ORDER,
@@ -37,20 +50,23 @@ from .integrators import (
     rk4,
     step,
     symplectic_euler,
+    time_grid,
     trapezoidal,
     velocity_verlet,
 )
 from .stability import amplification_factor, is_stable, max_stable_dt
-from .systems import NewtonianSystem, newtonian, split_state, stack_state
+from .systems import NewtonianSystem, newtonian, split_particles, split_state, stack_state
 
 __all__ = [
     "EVALS_PER_STEP",
     "IMPLICIT_METHODS",
+    "MAX_STEPS",
     "METHODS",
     "NEWTONIAN_METHODS",
     "ORDER",
     "BlowUpError",
     "ConvergenceError",
+    "NewtonSolver",
     "NewtonianSystem",
     "Trajectory",
     "amplification_factor",
@@ -63,19 +79,24 @@ __all__ = [
     "get_stepper",
     "hair",
     "heun",
+    "implicit",
     "integrate",
     "is_stable",
     "max_stable_dt",
     "midpoint",
     "newtonian",
     "rk4",
+    "split_particles",
     "split_state",
     "springs",
     "stability",
     "stack_state",
     "step",
+    "steppers",
     "symplectic_euler",
     "systems",
+    "time_grid",
+    "timegrid",
     "trapezoidal",
     "velocity_verlet",
 ]
