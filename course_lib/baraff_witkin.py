@@ -46,7 +46,7 @@ class StepInfo:
     iterations : int
         Conjugate-gradient iterations.
     residual : float
-        ``|b - A Δv| / |b|`` at the end (0 when ``b = 0``).
+        ``|b - A Δv| / |b|`` at the end (0 when ``b = 0``; NaN if not checked).
     converged : bool
         Whether CG met its tolerance within ``maxiter``.
     """
@@ -82,6 +82,9 @@ class BaraffWitkin:
         CG may fail on strongly compressed networks.
     warm_start : bool
         Start CG from the previous step's ``Δv``: in a smooth motion it changes little.
+    check : bool
+        After the solve, compute the true relative residual ``|b - A Δv| / |b|`` for
+        :attr:`info` (one more product with ``A``); ``False`` records NaN.
 
     Attributes
     ----------
@@ -91,7 +94,7 @@ class BaraffWitkin:
 
     def __init__(self, network: SpringNetwork, mass, *, pinned=None, gravity=None,
                  external: Callable | None = None, rtol: float = 1e-6, maxiter: int | None = None,
-                 definite: bool = True, warm_start: bool = True):
+                 definite: bool = True, warm_start: bool = True, check: bool = True):
         if not isinstance(network, SpringNetwork):
             raise TypeError(f"network must be a SpringNetwork, got {type(network).__name__}")
         self.network = network
@@ -104,8 +107,7 @@ class BaraffWitkin:
         if pinned.size and (not np.issubdtype(pinned.dtype, np.integer)
                             or pinned.min() < 0 or pinned.max() >= n):
             raise ValueError(f"pinned must hold particle indices in [0, {n})")
-        self.free = np.ones(n, dtype=bool)
-        self.free[pinned.astype(int)] = False
+        self.pinned = np.unique(pinned.astype(np.intp))
         self.gravity = None if gravity is None else _validate.state_array("gravity", gravity)
         if external is not None:
             _validate.callable_arg("external", external)
@@ -114,6 +116,7 @@ class BaraffWitkin:
         self.maxiter = maxiter
         self.definite = bool(definite)
         self.warm_start = bool(warm_start)
+        self.check = bool(check)
         self.info: StepInfo | None = None
         self._dv: np.ndarray | None = None
         self._t = 0.0
@@ -145,11 +148,21 @@ class BaraffWitkin:
         """``Dᵀ[β w + γ (w·d) d]`` with ``w = p_lo - p_hi``: the springs' part of ``A p``."""
         w = self.network.slot_differences(p, out=self._w)   # (dim, S)
         np.multiply(w, self._d, out=self._prod)
-        np.matmul(np.ones(w.shape[0]), self._prod, out=self._along)   # w·d
+        np.sum(self._prod, axis=0, out=self._along)   # w·d
         self._along *= gamma
         w *= self._beta
         w += np.multiply(self._d, self._along, out=self._prod)
         return self.network.slot_sums(w)
+
+    def _per_particle(self, dim: int):
+        """``(N, dim)`` copies of the masses and of the gravity force (contiguous, so that
+        no operation broadcasts along rows of length ``dim``)."""
+        if getattr(self, "_dim", None) != dim:
+            self._dim = dim
+            self._mass = np.repeat(self.mass, dim).reshape(-1, dim)
+            g = np.zeros(dim) if self.gravity is None else self.gravity
+            self._weight = self._mass * g
+        return self._mass, self._weight
 
     def system(self, x, v, dt: float):
         """The filtered system of one step at ``(x, v)``: ``(A, b, diagonal)``.
@@ -160,25 +173,32 @@ class BaraffWitkin:
         x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
         n, dim = x.shape
         h = _validate.positive_finite("dt", dt)
+        mass, weight = self._per_particle(dim)
         force = self._coefficients(x, v, h)
-        m = self.mass[:, None]
-        force += m * self.gravity if self.gravity is not None else 0.0
+        force += weight
         if self.external is not None:
             force += self.external(self._t, x, v)
-        free = self.free[:, None]
+        pinned = self.pinned
         # b = h F0 + h² ∂F/∂x v0, and ∂F/∂x v0 = -Dᵀ[β' w + γ' (w·d) d] with w = D v0.
         b = h * force - self._springs_apply(v, self._gamma_x)
-        b *= free
+        b[pinned] = 0.0                            # S b
 
         def matvec(p_flat):
-            p = p_flat.reshape(n, dim) * free      # S p
-            out = m * p + self._springs_apply(p, self._gamma)
-            out *= free                            # S A S p ...
-            out += p_flat.reshape(n, dim) * ~free  # ... + (I - S) p
+            p = p_flat.reshape(n, dim)
+            if pinned.size:
+                p, kept = p.copy(), p[pinned]
+                p[pinned] = 0.0                    # S p
+            out = self._springs_apply(p, self._gamma)
+            out += mass * p
+            if pinned.size:
+                out[pinned] = kept                 # S A S p + (I - S) p
             return out.ravel()
 
-        per_spring = self._beta + self._gamma * self._d * self._d
-        diagonal = np.where(free, m + self.network.slot_sums(per_spring, same_sign=True), 1.0)
+        along = np.multiply(self._d, self._d, out=self._prod)
+        along *= self._gamma
+        along += self._beta
+        diagonal = mass + self.network.slot_sums(along, same_sign=True)
+        diagonal[pinned] = 1.0
         A = spla.LinearOperator((n * dim, n * dim), matvec=matvec, dtype=float)
         return A, b.ravel(), diagonal.ravel()
 
@@ -191,9 +211,11 @@ class BaraffWitkin:
         x = self.network._check("x", x)
         v = self.network._check("v", v)
         A, b, diagonal = self.system(x, v, dt)
-        guess = self._dv if (self.warm_start and self._dv is not None
-                             and self._dv.shape == b.shape) else np.zeros_like(b)
-        guess = guess * self.free.repeat(x.shape[1])
+        if self.warm_start and self._dv is not None and self._dv.shape == b.shape:
+            guess = self._dv.copy()
+            guess.reshape(x.shape)[self.pinned] = 0.0
+        else:
+            guess = np.zeros_like(b)
         iterations = [0]
 
         def count(_):
@@ -202,8 +224,10 @@ class BaraffWitkin:
         precondition = spla.LinearOperator(A.shape, matvec=lambda r: r / diagonal, dtype=float)
         dv, status = spla.cg(A, b, x0=guess, rtol=self.rtol, atol=0.0, M=precondition,
                              maxiter=self.maxiter or 10 * b.size, callback=count)
-        norm_b = np.linalg.norm(b)
-        residual = float(np.linalg.norm(b - A @ dv) / norm_b) if norm_b else 0.0
+        residual = np.nan
+        if self.check:
+            norm_b = np.linalg.norm(b)
+            residual = float(np.linalg.norm(b - A @ dv) / norm_b) if norm_b else 0.0
         self.info = StepInfo(iterations[0], residual, status == 0)
         self._dv = dv
         v_new = v + dv.reshape(x.shape)

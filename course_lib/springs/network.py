@@ -220,7 +220,7 @@ class SpringNetwork:
         d = self.slot_differences(x, out=w.d)
         # ℓ = |d| and 1/ℓ; where ℓ = 0 the direction is undefined and we take 1/ℓ = 0.
         np.multiply(d, d, out=w.f)
-        np.matmul(w.ones, w.f, out=w.length)       # sum over the components
+        np.sum(w.f, axis=0, out=w.length)           # sum over the components (no BLAS)
         np.sqrt(w.length, out=w.length)
         with np.errstate(divide="ignore"):
             np.divide(1.0, w.length, out=w.inv)
@@ -234,7 +234,7 @@ class SpringNetwork:
             # + c (v_lo - v_hi)·d / ℓ²: damping of the stretching rate only
             rel = self.slot_differences(self._check("v", v), out=w.rel)
             np.multiply(rel, d, out=w.f)
-            np.matmul(w.ones, w.f, out=w.rate)
+            np.sum(w.f, axis=0, out=w.rate)
             w.rate *= w.inv
             w.rate *= w.inv
             w.rate *= self.slot_c
