@@ -125,7 +125,8 @@ def _grade_task(task: Task, runtime: Runtime, kit: dict[str, Assignment], limits
                 status, message = "incorrect", reference
         results.append((e, status, message, details))
     evidence = [run.violation] if run.violation else findings + run.changes
-    evidence += [f"{e.name}: {message}" for e, status, message, _ in results if status == "tampered"]
+    evidence += [f"{e.name}: {message.removeprefix('tampering: ')}"
+                 for e, status, message, _ in results if status == "tampered"]
     rows = []
     for e, status, message, details in results:
         if evidence and (status != "tampered" or run.violation or findings or run.changes):

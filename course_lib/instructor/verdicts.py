@@ -141,8 +141,8 @@ def judge(check, record: dict, limits_exercise_s: float) -> tuple[str, str, dict
     if stop == "exhausted" and not record.get("timeout") and not record.get("check_error"):
         stop = "diverged"  # the worker's check finished with fewer calls than the grader's
     if stop == "diverged":
-        return ("tampered", "the check's inputs in the notebook's process differ from the grader's: "
-                "something in the notebook changed the checker or its data", details)
+        return ("tampered", "tampering: the check's inputs in the notebook's process differ from "
+                "the grader's: something in the notebook changed the checker or its data", details)
     if stop == "timeout" or (stop == "exhausted" and record.get("timeout")):
         return ("timeout", f"your function did not finish within {limits_exercise_s:g} s "
                 f"(call {replay.k} of the check)", details)
