@@ -51,8 +51,18 @@ student: $(STAMP)
 execute: $(STAMP)
 	$(BIN)/python -m course_lib.instructor execute $(or $(NB),solutions/*.ipynb)
 
+# Grade a class folder (one subfolder per student): gradebook, feedback, class report.
 grade: $(STAMP)
-	$(BIN)/python -m course_lib.instructor grade $(SUBMISSIONS) --out $(or $(OUT),grades.csv)
+	$(BIN)/python -m course_lib.instructor grade $(SUBMISSIONS) --out $(or $(OUT),grades.csv) \
+		$(if $(ASSIGNMENTS),--assignment $(ASSIGNMENTS))
+
+.PHONY: release nbgrader
+# What students receive (no solutions), and an nbgrader course folder.
+release: $(STAMP)
+	$(BIN)/python -m course_lib.instructor release $(or $(OUT),dist/student)
+
+nbgrader: $(STAMP)
+	$(BIN)/python -m course_lib.instructor nbgrader $(or $(OUT),nbgrader)
 
 bench: $(STAMP)
 	$(BIN)/python -m benchmarks
