@@ -65,7 +65,10 @@ nbgrader: $(STAMP)
 	$(BIN)/python -m course_lib.instructor nbgrader $(or $(OUT),nbgrader)
 
 bench: $(STAMP)
-	$(BIN)/python -m benchmarks
+	@test -x .venv-bench/bin/python || $(PYTHON) -m venv .venv-bench
+	@test .venv-bench/.installed -nt requirements.txt || { .venv-bench/bin/python -m pip install --quiet --disable-pip-version-check -r requirements.txt && touch .venv-bench/.installed; }
+	@.venv-bench/bin/python -c "import numba" 2>/dev/null || .venv-bench/bin/python -m pip install --quiet --disable-pip-version-check numba==0.68.1 || echo "make bench: numba could not be installed; the numba column is skipped"
+	PYTHONPATH=$(CURDIR) .venv-bench/bin/python -m benchmarks $(BENCH_ARGS)
 
 # Re-resolve the lock from requirements.in in a scratch venv.
 lock:

@@ -81,7 +81,8 @@ class BaraffWitkin:
         definite; Choi & Ko 2002). With ``False`` the step is the exact linearization, and
         CG may fail on strongly compressed networks.
     warm_start : bool
-        Start CG from the previous step's ``Δv``: in a smooth motion it changes little.
+        Start CG from a linear extrapolation of the last two steps' ``Δv`` (same ``dt``):
+        in a smooth motion it changes little from step to step.
     check : bool
         After the solve, compute the true relative residual ``|b - A Δv| / |b|`` for
         :attr:`info` (one more product with ``A``); ``False`` records NaN.
@@ -118,7 +119,7 @@ class BaraffWitkin:
         self.warm_start = bool(warm_start)
         self.check = bool(check)
         self.info: StepInfo | None = None
-        self._dv: np.ndarray | None = None
+        self._history: list = []                   # (dt, Δv) of the last two steps
         self._t = 0.0
         self._d: np.ndarray | None = None
 
@@ -211,11 +212,12 @@ class BaraffWitkin:
         x = self.network._check("x", x)
         v = self.network._check("v", v)
         A, b, diagonal = self.system(x, v, dt)
-        if self.warm_start and self._dv is not None and self._dv.shape == b.shape:
-            guess = self._dv.copy()
+        guess = np.zeros_like(b)
+        past = [dv for h, dv in self._history if h == dt and dv.shape == b.shape]
+        if self.warm_start and past:
+            # Δv changes smoothly from step to step: extrapolate the last two (or repeat one).
+            guess = 2.0 * past[-1] - past[-2] if len(past) == 2 else past[-1].copy()
             guess.reshape(x.shape)[self.pinned] = 0.0
-        else:
-            guess = np.zeros_like(b)
         iterations = [0]
 
         def count(_):
@@ -229,7 +231,7 @@ class BaraffWitkin:
             norm_b = np.linalg.norm(b)
             residual = float(np.linalg.norm(b - A @ dv) / norm_b) if norm_b else 0.0
         self.info = StepInfo(iterations[0], residual, status == 0)
-        self._dv = dv
+        self._history = [*self._history[-1:], (dt, dv)]
         v_new = v + dv.reshape(x.shape)
         return x + dt * v_new, v_new
 

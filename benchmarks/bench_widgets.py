@@ -1,0 +1,123 @@
+"""Widgets: time from a control change to a recomputed, redrawn figure.
+
+Each widget is built by its lesson's factory and driven the way a student drives it, by
+setting a control's ``.value`` (outside a kernel the view computes and draws off-screen
+with Agg, the same compute and draw functions the notebook runs). We time its default
+settings, then sweep the settings that cost most (every method at the smallest step, the
+largest step, stiffness and damping at their ends) and report the slowest; the hair
+widget is also timed on bending stiffnesses it has never seen (a fresh equilibrium).
+"""
+
+from __future__ import annotations
+
+import importlib
+import itertools
+import pkgutil
+import time
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+from benchmarks.timing import Row
+
+DEFAULT_TARGET = 0.100   # s, one update at the default settings
+ANYWHERE_TARGET = 0.250  # s, one update anywhere on the sliders
+
+#: (label, notebook prefix, factory name)
+WIDGETS = [
+    ("03 stability explorer", "nb03", "stability_explorer"),
+    ("07 spring widget", "nb07", "spring_explorer"),
+    ("08 hair widget", "nb08", "held_strand_explorer"),
+]
+
+
+def find_factory(prefix: str, name: str):
+    """The widget factory ``name`` in one of ``course_lib.lessons.<prefix>_*``."""
+    import course_lib.lessons as lessons
+
+    for info in sorted(pkgutil.iter_modules(lessons.__path__), key=lambda m: m.name):
+        if info.name.startswith(prefix + "_"):
+            module = importlib.import_module(f"course_lib.lessons.{info.name}")
+            if hasattr(module, name):
+                return getattr(module, name)
+    raise LookupError(f"no {name} in course_lib.lessons.{prefix}_*")
+
+
+def option_values(control) -> list:
+    return [o[1] if isinstance(o, tuple) else o for o in control.options]
+
+
+def nudge(control):
+    """A value next to the control's current one (so that setting it is a real change)."""
+    lo, hi, value = control.min, control.max, control.value
+    if hasattr(control, "base"):                          # log slider: min/max are exponents
+        lo, hi = control.base**lo, control.base**hi
+    step = 1.01 if value * 1.01 <= hi else 0.99
+    return min(max(value * step, lo), hi) if value else (lo + hi) / 2
+
+
+def timed_update(view, name: str, value=None) -> float:
+    control = view.controls[name]
+    start = time.perf_counter()
+    control.value = nudge(control) if value is None else value
+    return time.perf_counter() - start
+
+
+def slider_ends(control):
+    if hasattr(control, "base"):
+        return [control.base**control.min, control.base**control.max]
+    return [control.min, control.max]
+
+
+def sweep(factory, quick: bool):
+    """Every method at each end of the step slider, and each other slider at its ends:
+    returns ``(seconds, settings)`` of the slowest update."""
+    view = factory()
+    controls = view.controls
+    sliders = [n for n, c in controls.items() if hasattr(c, "min") and n != "dt"]
+    methods = option_values(controls["method"]) if "method" in controls else [None]
+    settings = [{"method": m, "dt": dt} for m, dt in itertools.product(methods, slider_ends(controls["dt"]))]
+    settings += [{name: end} for name in sliders for end in slider_ends(controls[name])]
+    if quick:
+        settings = settings[:2]
+    worst = (0.0, {})
+    for setting in settings:
+        setting = {k: v for k, v in setting.items() if v is not None}
+        try:                                              # the others at their defaults
+            fresh = factory(**setting)
+        except TypeError:
+            fresh = factory()
+            for name, value in setting.items():
+                fresh.controls[name].value = value
+        seconds = min(timed_update(fresh, "dt") for _ in range(1 if quick else 2))
+        worst = max(worst, (seconds, setting), key=lambda w: w[0])
+    return worst
+
+
+def run(quick: bool = False) -> list[Row]:
+    from course_lib.plotting import use_course_style
+
+    use_course_style()
+    rows = []
+    for label, prefix, name in WIDGETS:
+        factory = find_factory(prefix, name)
+        view = factory()
+        times = sorted(timed_update(view, "dt") for _ in range(1 if quick else 7))
+        median = times[len(times) // 2]
+        rows.append(Row(f"widget {label}: one update, default settings", median,
+                        f"≤ {DEFAULT_TARGET * 1e3:.0f} ms", median <= DEFAULT_TARGET))
+        seconds, where = sweep(factory, quick)
+        text = ", ".join(f"{k} = {v:.3g}" if isinstance(v, float) else f"{k} = {v}"
+                         for k, v in where.items())
+        rows.append(Row(f"widget {label}: slowest update over the sliders", seconds,
+                        f"≤ {ANYWHERE_TARGET * 1e3:.0f} ms", seconds <= ANYWHERE_TARGET,
+                        note=f"at {text}"))
+        if "k_bend" in view.controls:
+            lo, hi = slider_ends(view.controls["k_bend"])
+            fresh = [lo * (hi / lo) ** f for f in (0.123, 0.357, 0.579, 0.791, 0.913)]
+            times = sorted(timed_update(view, "k_bend", k) for k in fresh[: 1 if quick else 5])
+            rows.append(Row(f"widget {label}: new bending stiffness (fresh equilibrium)",
+                            times[len(times) // 2], f"≤ {ANYWHERE_TARGET * 1e3:.0f} ms",
+                            times[len(times) // 2] <= ANYWHERE_TARGET))
+    return rows
