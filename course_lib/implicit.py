@@ -181,9 +181,16 @@ class NewtonSolver:
                 fresh = True
                 if self._const is not None and len(self._cache) < 8:
                     self._cache[a_dt] = solve_lin
-            delta = solve_lin(residual).reshape(shape)
-            y = y - delta
+            delta = solve_lin(residual)
             norm = _max_abs(delta)
+            if norm > 0.25 * prev and not fresh and self._const is None:
+                # The reused Jacobian no longer contracts well: re-evaluate it here and
+                # take a full Newton step instead (the residual is already known).
+                solve_lin = self.factorize(self.jacobian(f, t1, y, fy, scale), a_dt, t1)
+                fresh = True
+                delta = solve_lin(residual)
+                norm = _max_abs(delta)
+            y = y - delta.reshape(shape)
             if not np.isfinite(norm):
                 raise ConvergenceError(f"implicit step at t = {t1:g}: Newton iterates diverged",
                                        nonfinite=True)
@@ -191,9 +198,6 @@ class NewtonSolver:
             # Converged, or stalled at round-off (the update stopped shrinking).
             if norm <= self.rtol * scale or (norm <= 1e-9 * scale and norm >= prev):
                 return y
-            # A stale Jacobian that no longer contracts well is re-evaluated here.
-            if norm > 0.25 * prev and not fresh and self._const is None:
-                solve_lin = None
             fresh, prev = False, norm
         raise ConvergenceError(
             f"implicit step at t = {t1:g}: Newton's method did not converge in {self.max_iter} "
