@@ -30,7 +30,7 @@ lab: $(STAMP)
 PYTEST := $(BIN)/python -m pytest
 NBVAL  := --nbval-current-env --nbval-sanitize-with tests/sanitize.cfg -p no:cacheprovider
 
-test: $(STAMP) lint test-unit test-solutions test-notebooks
+test: $(STAMP) lint test-unit test-solutions test-notebooks test-browser
 
 test-unit: $(STAMP)
 	$(PYTEST) tests --doctest-modules course_lib || test $$? -eq 5
@@ -80,3 +80,16 @@ lock:
 
 clean:
 	rm -rf $(VENV) .pytest_cache .hypothesis build *.egg-info
+
+# Delivery: a static offline site of the executed notebooks (build/site), lecture mode
+# (Voila on 127.0.0.1 with a token), and the browser tests (Playwright driving Debian's
+# Chromium; skipped with a message saying how to enable them when it is not installed).
+.PHONY: site present test-browser
+site: $(STAMP)
+	$(BIN)/python -m course_lib.instructor.site $(SITE_ARGS)
+
+present: $(STAMP)
+	$(BIN)/python -m course_lib.instructor.present $(NB) $(PRESENT_ARGS)
+
+test-browser: $(STAMP)
+	$(PYTEST) tests/browser -p no:cacheprovider || test $$? -eq 5
