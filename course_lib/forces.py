@@ -56,42 +56,45 @@ def constant_gravity(mass, g=G_EARTH):
     return F
 
 
-#: Pairs per block of the N-body sums: the three work arrays (3 × PAIR_BLOCK floats) stay
-#: in cache however many bodies there are.
+#: Pairs per block of the N-body sums: the two work arrays (2 × PAIR_BLOCK floats) stay in
+#: cache however many bodies there are.
 PAIR_BLOCK = 32768
-_WORK: dict[str, np.ndarray] = {}
 
 
-def _work(name: str, size: int) -> np.ndarray:
-    """A cached flat float buffer of at least ``size`` entries (reused between calls)."""
-    buf = _WORK.get(name)
-    if buf is None or buf.size < size:
-        buf = _WORK[name] = np.empty(size)
-    return buf[:size]
+def _pair_blocks(x: np.ndarray, softening: float, power: int):
+    """Yield ``(a, b, s)`` covering every pair once: for the bodies ``i`` in ``a:b`` and
+    ``j >= a``, ``s[i - a, j - a] = (|x_i - x_j|² + ε²)^(-power/2)``, zero for ``i = j``.
 
-
-def _inverse_distance_blocks(x: np.ndarray, softening: float, power: int):
-    """Yield ``(a, b, w)``: rows ``a:b`` of ``w_ij = (|x_i - x_j|² + ε²)^(-power/2)``.
-
-    ``w`` has shape ``(b - a, N)``, is zero on the self pairs ``i == j``, and is a work
-    array overwritten by the next block (the caller may scale it in place).
+    Pairs with ``j < a`` were in an earlier block (``s`` is symmetric in ``i, j``). ``s`` is a
+    work array, overwritten by the next block.
     """
     n, dim = x.shape
-    rows = max(1, min(n, PAIR_BLOCK // max(n, 1)))
-    diff, dist2, w = (_work(name, rows * n) for name in ("diff", "dist2", "w"))
-    for a in range(0, n, rows):
-        b = min(n, a + rows)
-        shape = (b - a, n)
-        df, d2, ww = (buf[: (b - a) * n].reshape(shape) for buf in (diff, dist2, w))
-        d2.fill(softening**2)
-        for k in range(dim):
-            np.subtract(x[a:b, k, None], x[None, :, k], out=df)
-            np.multiply(df, df, out=df)
-            d2 += df
-        own = np.arange(a, b)
-        d2[own - a, own] = np.inf                          # no self-pair: w = 0
-        np.power(d2, -0.5 * power, out=ww)
-        yield a, b, ww
+    rows_of = np.ascontiguousarray(x.T)                     # (d, N): one row per component
+    size = max(PAIR_BLOCK, n)
+    r2_buf, s_buf = np.empty(size), np.empty(size)
+    a = 0
+    while a < n:
+        b = min(n, a + max(1, size // (n - a)))
+        shape = (b - a, n - a)
+        r2 = r2_buf[: shape[0] * shape[1]].reshape(shape)
+        s = s_buf[: shape[0] * shape[1]].reshape(shape)
+        for k in range(dim):                                # r² = Σ_k (x_ik - x_jk)²
+            target = r2 if k == 0 else s
+            np.subtract(rows_of[k, a:b, None], rows_of[k, None, a:], out=target)
+            np.multiply(target, target, out=target)
+            if k:
+                r2 += s
+        if softening:
+            r2 += softening**2
+        np.sqrt(r2, out=s)                                  # r
+        if power == 3:
+            s *= r2                                         # r³
+        own = np.arange(b - a)
+        s[own, own] = 1.0                                   # self pairs: no division by zero
+        np.divide(1.0, s, out=s)
+        s[own, own] = 0.0                                   # ... and no self-interaction
+        yield a, b, s
+        a = b
 
 
 def nbody_gravity_force(x, mass, G: float = 1.0, softening: float = 0.0) -> np.ndarray:
@@ -115,21 +118,27 @@ def nbody_gravity_force(x, mass, G: float = 1.0, softening: float = 0.0) -> np.n
 
     Notes
     -----
-    With ``w_ij = m_j / (|r_ij|² + ε²)^{3/2}`` the force is
-    ``F_i = G m_i (Σ_j w_ij x_j - x_i Σ_j w_ij)``: the first sum is one matrix product.
-    Pairs are handled a block of rows at a time (:data:`PAIR_BLOCK` pairs), so the work
-    arrays stay in cache and take ``3 × PAIR_BLOCK`` floats however large ``N`` is.
-    Positions are taken about their mean, so the two sums cancel as little as possible.
+    With the symmetric ``s_ij = (|r_ij|² + ε²)^{-3/2}`` the force is
+    ``F_i = G m_i (Σ_j s_ij m_j x_j - x_i Σ_j s_ij m_j)``: matrix products. Each pair is
+    computed once (Newton's third law gives the other half), a block of rows at a time
+    (:data:`PAIR_BLOCK` pairs), so the work arrays stay in cache and take ``2 × PAIR_BLOCK``
+    floats however large ``N`` is. Positions are taken about their mean, so that the two
+    sums cancel as little as possible.
     """
     x = np.asarray(x, dtype=float)
     m = np.broadcast_to(np.asarray(mass, dtype=float), x.shape[:1])
     centred = x - x.mean(axis=0)
-    out = np.empty_like(x)
-    for a, b, w in _inverse_distance_blocks(centred, softening, 3):
-        w *= m                                             # w_ij = m_j / r³
-        pull = w @ centred                                 # Σ_j w_ij x_j
-        pull -= centred[a:b] * w.sum(axis=1)[:, None]      # - x_i Σ_j w_ij
-        np.multiply(pull, (G * m[a:b])[:, None], out=out[a:b])
+    weighted = m[:, None] * centred                         # m_j x_j
+    out = np.zeros_like(x)                                  # Σ_j s_ij m_j x_j
+    pull = np.zeros(len(x))                                 # Σ_j s_ij m_j
+    for a, b, s in _pair_blocks(centred, softening, 3):
+        out[a:b] += s @ weighted[a:]                        # rows a:b, every j >= a ...
+        pull[a:b] += s @ m[a:]
+        later = s[:, b - a:]                                # ... and each j >= b, the rows a:b
+        out[b:] += later.T @ weighted[a:b]
+        pull[b:] += later.T @ m[a:b]
+    out -= centred * pull[:, None]
+    out *= (G * m)[:, None]
     return out
 
 
@@ -163,8 +172,9 @@ def nbody_potential_energy(x, mass, G: float = 1.0, softening: float = 0.0) -> n
     else:
         energy = np.zeros(states.shape[0])
         for k, state in enumerate(states):
-            for a, b, w in _inverse_distance_blocks(state, softening, 1):
-                energy[k] -= 0.5 * G * (m[a:b] @ (w @ m))  # each pair counted twice
+            for a, b, s_ in _pair_blocks(state, softening, 1):
+                inside = m[a:b] @ (s_[:, : b - a] @ m[a:b])  # pairs within a:b, counted twice
+                energy[k] -= G * (0.5 * inside + m[a:b] @ (s_[:, b - a:] @ m[b:]))
     return energy.reshape(x.shape[:-2])[()]
 
 
