@@ -101,23 +101,32 @@ def run(quick: bool = False) -> list[Row]:
     use_course_style()
     rows = []
     for label, prefix, name in WIDGETS:
-        factory = find_factory(prefix, name)
-        view = factory()
-        times = sorted(timed_update(view, "dt") for _ in range(1 if quick else 7))
-        median = times[len(times) // 2]
-        rows.append(Row(f"widget {label}: one update, default settings", median,
-                        f"≤ {DEFAULT_TARGET * 1e3:.0f} ms", median <= DEFAULT_TARGET))
-        seconds, where = sweep(factory, quick)
-        text = ", ".join(f"{k} = {v:.3g}" if isinstance(v, float) else f"{k} = {v}"
-                         for k, v in where.items())
-        rows.append(Row(f"widget {label}: slowest update over the sliders", seconds,
-                        f"≤ {ANYWHERE_TARGET * 1e3:.0f} ms", seconds <= ANYWHERE_TARGET,
-                        note=f"at {text}"))
-        if "k_bend" in view.controls:
-            lo, hi = slider_ends(view.controls["k_bend"])
-            fresh = [lo * (hi / lo) ** f for f in (0.123, 0.357, 0.579, 0.791, 0.913)]
-            times = sorted(timed_update(view, "k_bend", k) for k in fresh[: 1 if quick else 5])
-            rows.append(Row(f"widget {label}: new bending stiffness (fresh equilibrium)",
-                            times[len(times) // 2], f"≤ {ANYWHERE_TARGET * 1e3:.0f} ms",
-                            times[len(times) // 2] <= ANYWHERE_TARGET))
+        try:
+            rows += widget_rows(label, find_factory(prefix, name), quick)
+        except Exception as exc:                          # one broken widget fails its row only
+            rows.append(Row(f"widget {label}", None, "runs", False,
+                            note=f"crashed: {type(exc).__name__}: {exc}"[:100]))
+    return rows
+
+
+def widget_rows(label: str, factory, quick: bool) -> list[Row]:
+    rows = []
+    view = factory()
+    times = sorted(timed_update(view, "dt") for _ in range(1 if quick else 7))
+    median = times[len(times) // 2]
+    rows.append(Row(f"widget {label}: one update, default settings", median,
+                    f"≤ {DEFAULT_TARGET * 1e3:.0f} ms", median <= DEFAULT_TARGET))
+    seconds, where = sweep(factory, quick)
+    text = ", ".join(f"{k} = {v:.3g}" if isinstance(v, float) else f"{k} = {v}"
+                     for k, v in where.items())
+    rows.append(Row(f"widget {label}: slowest update over the sliders", seconds,
+                    f"≤ {ANYWHERE_TARGET * 1e3:.0f} ms", seconds <= ANYWHERE_TARGET,
+                    note=f"at {text}"))
+    if "k_bend" in view.controls:
+        lo, hi = slider_ends(view.controls["k_bend"])
+        fresh = [lo * (hi / lo) ** f for f in (0.123, 0.357, 0.579, 0.791, 0.913)]
+        times = sorted(timed_update(view, "k_bend", k) for k in fresh[: 1 if quick else 5])
+        rows.append(Row(f"widget {label}: new bending stiffness (fresh equilibrium)",
+                        times[len(times) // 2], f"≤ {ANYWHERE_TARGET * 1e3:.0f} ms",
+                        times[len(times) // 2] <= ANYWHERE_TARGET))
     return rows

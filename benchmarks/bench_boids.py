@@ -1,0 +1,40 @@
+"""Flocking (notebook 10): one step of 2,000 boids (target 20 ms) and one update of the
+flocking widget, compute and redraw (target 100 ms).
+
+The step uses the k-d tree neighbour search at the notebook's density (0.375 boids per
+m²); the widget is driven as a student drives it, by setting a slider's value, and is
+drawn with Agg as outside a kernel.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np
+
+from benchmarks.__main__ import Result, median_time
+from course_lib import boids
+from course_lib.lessons import nb10_flocking as nb10
+from course_lib.plotting import use_course_style
+
+
+def run() -> list[Result]:
+    rng = np.random.default_rng(2026)
+    box = float(np.sqrt(2000 / 0.375))
+    rules = boids.Rules(box=box)
+    x, v = boids.random_flock(2000, box, 1.0, rng)
+    results = [Result("boids: one step of 2,000 boids (k-d tree)",
+                      median_time(lambda: boids.step(x, v, nb10.DT, rules)), 0.020)]
+
+    use_course_style()
+    view = nb10.flock_explorer()
+    values = iter([1.5, 2.5] * 1000)
+
+    def change_alignment() -> None:        # alternate so that every assignment is a change
+        view.controls["alignment"].value = next(values)
+
+    results.append(Result("flocking widget: one update (150 boids, 100 steps, redraw)",
+                          median_time(change_alignment, repeat=7), 0.100))
+    return results
