@@ -1,0 +1,129 @@
+"""nbgrader export, proved with nbgrader itself (installed in a separate venv).
+
+The first run creates ``.venv-nbgrader`` (a pinned nbgrader, about a minute); later runs
+reuse it. nbgrader's kernel is the course's own Python (a kernelspec on JUPYTER_PATH),
+so nbgrader's dependencies never enter ``.venv``.
+"""
+
+import copy
+import csv
+import json
+import os
+import subprocess
+import sys
+
+import nbformat
+import pytest
+from notebook_helpers import ROOT
+
+from course_lib.instructor.nbgrader_export import (
+    autograde_test,
+    ensure_nbgrader,
+    export_nbgrader,
+    nbgrader_source,
+)
+from course_lib.instructor.notebooks import make_student_notebook
+
+VENV = ROOT / ".venv-nbgrader"
+A02, A05 = "02_forward_euler", "05_newtons_second_law"
+
+
+def nbgrader_meta(nb):
+    return [c.metadata.get("nbgrader") for c in nb.cells]
+
+
+def test_source_notebooks_carry_nbgrader_metadata():
+    from course_lib.check import nb05
+
+    nb = nbgrader_source(nbformat.read(ROOT / "solutions" / f"{A05}.ipynb", as_version=4))
+    meta = [m for m in nbgrader_meta(nb) if m]
+    tests = [m for m in meta if m["grade_id"].startswith("test_")]
+    assert [m["grade_id"] for m in tests] == ["test_symplectic_euler_step", "test_velocity_verlet_step",
+                                              "test_impact_time", "test_euler_apple_height"]
+    assert all(m["grade"] and m["locked"] and not m["solution"] for m in tests)
+    assert [m["points"] for m in tests] == [float(getattr(nb05, m["grade_id"][5:]).points) for m in tests]
+    answers = [m for m in meta if m["grade_id"].startswith("answer_")]
+    assert len(answers) == 4 and all(m["solution"] and not m["grade"] and not m["locked"] for m in answers)
+    assert any(m["grade_id"] == "imports" and m["locked"] for m in meta)
+    written = [m for m in meta if m["grade_id"].startswith("written_answer")]
+    assert all(m["grade"] and m["solution"] for m in written)  # nbgrader's rule for Markdown answers
+    assert all(m["schema_version"] == 3 for m in meta)
+
+
+def test_autograde_test_passes_only_a_correct_answer():
+    from course_lib.check import nb02
+
+    autograde_test(nb02.radius_after, lambda r0, dt, n: r0 * (1 + dt**2) ** (n / 2))
+    for answer in (lambda r0, dt, n: r0, lambda r0, dt, n: 1 / 0):
+        with pytest.raises(AssertionError, match="radius_after"):
+            autograde_test(nb02.radius_after, answer)
+
+    def stub(r0, dt, n):
+        raise NotImplementedError
+
+    with pytest.raises(AssertionError, match="pending"):
+        autograde_test(nb02.radius_after, stub)
+
+
+@pytest.fixture(scope="module")
+def course(tmp_path_factory):
+    exe = ensure_nbgrader(VENV)
+    root = tmp_path_factory.mktemp("nbgrader-course")
+    export_nbgrader(root, ROOT, assignments=[A02, A05])
+    kernel = root / "jupyter" / "kernels" / "python3"
+    kernel.mkdir(parents=True)
+    (kernel / "kernel.json").write_text(json.dumps({
+        "argv": [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+        "display_name": "Python 3", "language": "python"}))
+    env = {**os.environ, "PATH": f"{exe.parent}{os.pathsep}{os.environ['PATH']}",
+           "JUPYTER_PATH": str(root / "jupyter")}
+
+    def nbgrader(*args):
+        done = subprocess.run([str(exe), *args], cwd=root, env=env, capture_output=True,
+                              text=True, timeout=900)
+        assert done.returncode == 0, done.stdout + done.stderr
+        return done
+
+    for assignment in (A02, A05):
+        nbgrader("generate_assignment", assignment, "--force")
+    return root, nbgrader
+
+
+@pytest.mark.parametrize("assignment", [A02, A05])
+def test_generate_assignment_reproduces_our_student_versions(course, assignment):
+    root, _ = course
+    released = nbformat.read(root / "release" / assignment / f"{assignment}.ipynb", as_version=4)
+    ours = make_student_notebook(nbformat.read(ROOT / "solutions" / f"{assignment}.ipynb", as_version=4))
+    kept = [c for c in released.cells
+            if not (c.metadata.get("nbgrader") or {}).get("grade_id", "").startswith("test_")]
+    assert [(c.cell_type, c.source) for c in kept] == [(c.cell_type, c.source) for c in ours.cells]
+    assert "BEGIN SOLUTION" not in str(released)
+
+
+def test_autograde_scores_correct_blank_and_wrong(course):
+    root, nbgrader = course
+    released = nbformat.read(root / "release" / A02 / f"{A02}.ipynb", as_version=4)
+    solved = nbformat.read(ROOT / "solutions" / f"{A02}.ipynb", as_version=4)
+    solution = {c.id: c.source for c in solved.cells}
+
+    def hand_in(student, answer):
+        nb = copy.deepcopy(released)
+        for cell in nb.cells:
+            grade_id = (cell.metadata.get("nbgrader") or {}).get("grade_id", "")
+            if grade_id.startswith("answer_"):
+                cell.source = answer(grade_id[len("answer_"):], cell.source, solution[cell.id])
+        path = root / "submitted" / student / A02 / f"{A02}.ipynb"
+        path.parent.mkdir(parents=True)
+        nbformat.write(nb, path)
+
+    hand_in("correct", lambda name, stub, sol: sol)
+    hand_in("blank", lambda name, stub, sol: stub)
+    hand_in("wrong", lambda name, stub, sol: stub.replace(
+        "    # YOUR CODE HERE\n    raise NotImplementedError()", "    return y + dt * f(t + dt, y)")
+        if name == "forward_euler_step" else sol)
+    nbgrader("autograde", A02, "--force")
+    nbgrader("export")
+    with (root / "grades.csv").open() as fh:
+        scores = {r["student_id"]: (float(r["score"]), float(r["max_score"]))
+                  for r in csv.DictReader(fh) if r["assignment"] == A02}
+    assert scores == {"correct": (3.0, 3.0), "blank": (0.0, 3.0), "wrong": (2.0, 3.0)}
