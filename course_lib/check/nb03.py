@@ -1,124 +1,231 @@
-"""Checks for notebook 03, stability."""
+"""Checks for notebook 03, stability.
+
+Exercises (each is checked on problems whose answers no formula in the notebook gives):
+
+- :func:`stability_function`: ``R(z)`` of any one-step method, measured by one step of the
+  test equation; checked on methods the notebook never shows.
+- :func:`largest_stable_dt`: the stability limit of a black-box linear system by
+  experiment; checked against linear stability theory (the eigenvalues and
+  :func:`course_lib.max_stable_dt`) to 2 %.
+- :func:`powers_stay_bounded`: whether ``M^n`` stays bounded for a 2×2 step matrix,
+  including the Jordan block of the symplectic methods at ``ω dt = 2``.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..stability import amplification_factor
+from ..stability import max_stable_dt
 from . import Checker, exercise
+from ._answers import as_array, as_scalar, call, rtol_for
 
-#: The ``k`` values (1/s) the step-limit checks try.
-RATES = (1.0, 4.0, 0.5)
+# --- exercise 1: R(z) of a method, from one step ---------------------------------------
 
-#: The (method, z) pairs of the classification exercise, with exactly representable
-#: boundary cases (|R| = 1 exactly) and the implicit methods' poles.
-PAIRS: list[tuple[str, complex]] = [
-    ("forward_euler", -1.5),
-    ("forward_euler", -2.0),       # R = -1: on the boundary
-    ("forward_euler", 0.5j),       # the vortex: |R| = √1.25 > 1
-    ("midpoint", -2.0),            # R = 1: on the boundary
-    ("midpoint", 1.0j),
-    ("rk4", 2.5j),
-    ("rk4", 3.0j),
-    ("backward_euler", -10.0),
-    ("backward_euler", 0.5),       # inside the unstable disk |z - 1| < 1
-    ("backward_euler", 1.0),       # the pole: R = ∞
-    ("backward_euler", 3.0),       # right half-plane, yet stable: |R| = 1/2
-    ("trapezoidal", 2.0j),         # R = i exactly: on the boundary
-    ("trapezoidal", 2.0),          # the pole: R = ∞
-    ("symplectic_euler", 1.5j),
-    ("velocity_verlet", 2.5j),
+
+def _two_half_steps(f, t, y, dt):
+    """Two forward Euler steps of dt/2: R = (1 + z/2)²."""
+    y_half = y + 0.5 * dt * f(t, y)
+    return y_half + 0.5 * dt * f(t + 0.5 * dt, y_half)
+
+
+def _kutta3(f, t, y, dt):
+    """Kutta's third-order method: R = 1 + z + z²/2 + z³/6."""
+    k1 = f(t, y)
+    k2 = f(t + 0.5 * dt, y + 0.5 * dt * k1)
+    k3 = f(t + dt, y - dt * k1 + 2.0 * dt * k2)
+    return y + dt / 6.0 * (k1 + 4.0 * k2 + k3)
+
+
+def _theta_quarter(f, t, y, dt):
+    """The implicit θ-method, θ = 1/4: R = (1 + 3z/4) / (1 - z/4).
+
+    Solves ``u = y + dt (3/4 f(t, y) + 1/4 f(t + dt, u))`` exactly for an ``f`` linear in
+    ``u`` (elementwise), from the residual at ``u = 0`` and ``u = 1``.
+    """
+    known = y + 0.75 * dt * f(t, y)
+
+    def residual(u):
+        return u - known - 0.25 * dt * f(t + dt, u)
+
+    r0 = residual(np.zeros_like(known))
+    r1 = residual(np.ones_like(known))
+    return -r0 / (r1 - r0)
+
+
+#: (name, stepper, exact R) of the methods the check measures.
+HIDDEN_METHODS = [
+    ("two forward Euler half steps", _two_half_steps, lambda z: (1 + z / 2) ** 2),
+    ("Kutta's third-order method", _kutta3, lambda z: 1 + z + z**2 / 2 + z**3 / 6),
+    ("the implicit θ-method, θ = 1/4", _theta_quarter, lambda z: (1 + 0.75 * z) / (1 - 0.25 * z)),
+]
+#: The points z (any shape) where R is measured.
+Z_GRID = np.array([[-2.5, -1.0 + 1.0j, 0.3j], [2.0j, -0.5 - 2.0j, 0.8]])
+Z_SCALAR = -1.5 + 0.5j
+
+
+@exercise(reference=("course_lib.stability.amplification_factor",))
+def stability_function(ck: Checker, student) -> None:
+    """``student(step, z) -> R(z)`` for hidden methods, on a grid and at a scalar ``z``."""
+    for name, stepper, R in HIDDEN_METHODS:
+        for z in (Z_GRID, Z_SCALAR):
+            what = (f"{name}, z of shape {np.shape(z)}" if np.ndim(z)
+                    else f"{name}, z = {z}")
+            ok, got = call(ck, what, student, stepper, z)
+            if not ok:
+                continue
+            expected = np.asarray(R(np.asarray(z, dtype=complex)))
+            answer = as_array(got, complex_ok=True)
+            if answer is None:
+                ck.expect(False, what, f"expected complex numbers, got {type(got).__name__}")
+                continue
+            if answer.size == expected.size == 1:
+                answer = answer.reshape(expected.shape)
+            if answer.shape != expected.shape:
+                ck.expect(False, what, f"expected shape {expected.shape}, got {answer.shape}",
+                          "return one R per z, in z's shape: take the step with an array y "
+                          "of ones shaped like z and f(t, y) = z * y")
+                continue
+            rtol = rtol_for(answer, 1e-12)
+            if np.allclose(answer, expected, rtol=rtol, atol=rtol):
+                ck.expect(True, what)
+                continue
+            hint = "R(z) is the state after ONE step of dy/dt = z y with dt = 1 from y = 1"
+            mistakes = {
+                "you returned the change R - 1; return the new state y_1 = R(z) y_0":
+                    expected - 1,
+                "that is R(z)²: take one step, not two": expected**2,
+                "the imaginary part is lost: start from a complex y "
+                "(np.ones_like(z, dtype=complex)), not a float array": expected.real,
+                "you returned forward Euler's 1 + z; measure the method you are given by "
+                "calling step": 1 + np.asarray(z, dtype=complex),
+            }
+            for mistake, wrong in mistakes.items():
+                if np.allclose(answer, wrong, rtol=rtol, atol=rtol):
+                    hint = mistake
+                    break
+            ck.expect(False, what, f"expected {np.round(expected, 6)}, got {np.round(answer, 6)}",
+                      hint)
+
+
+# --- exercise 2: the stability limit by experiment -------------------------------------
+
+#: Black-box linear systems dy/dt = A y: (description, A, y0, method, dt_hi).
+LIMIT_CASES = [
+    ("forward Euler on a damped spring x'' = -4x - 2x'",
+     np.array([[0.0, 1.0], [-4.0, -2.0]]), (1.0, 0.0), "forward_euler", 2.0),
+    ("RK4 on a decay and an oscillation together (3 components)",
+     np.array([[-3.0, 0.0, 0.0], [0.0, 0.0, 2.0], [0.0, -2.0, 0.0]]), (1.0, 1.0, 0.0), "rk4", 3.0),
+    ("midpoint on a lightly damped spring x'' = -9.25x - x'",
+     np.array([[0.0, 1.0], [-9.25, -1.0]]), (1.0, 0.0), "midpoint", 2.0),
+]
+#: Accepted relative error of the measured limit.
+LIMIT_RTOL = 0.02
+
+
+def theory_limit(A, method: str) -> float:
+    """Largest stable step of ``method`` on ``dy/dt = A y``: the smallest over A's modes."""
+    return min(max_stable_dt(method, lam) for lam in np.linalg.eigvals(A))
+
+
+@exercise(reference=("course_lib.stability.max_stable_dt", "course_lib.stability.bisect_stable_dt"))
+def largest_stable_dt(ck: Checker, student) -> None:
+    """``student(f, y0, method, dt_hi)``: the limit by experiment, within 2 % of theory."""
+    for what, A, y0, method, dt_hi in LIMIT_CASES:
+
+        def f(t, y, A=A):
+            return A @ y
+
+        limit = theory_limit(A, method)
+        ok, got = call(ck, what, student, f, np.array(y0), method, dt_hi)
+        if not ok:
+            continue
+        dt = as_scalar(got)
+        if dt is None or not np.isfinite(dt):
+            ck.expect(False, what, f"expected one number (a step in s), got {got!r}"[:160])
+            continue
+        error = dt / limit - 1.0
+        detail = f"expected {limit:.5g} s within {LIMIT_RTOL:.0%}, got {dt:.5g} s ({error:+.1%})"
+        if abs(error) <= LIMIT_RTOL:
+            ck.expect(True, f"{what}: limit {limit:.4g} s, measured {dt:.4g} s ({error:+.1%})")
+        elif dt >= 0.999 * dt_hi:
+            ck.expect(False, what, detail, "your search never saw an unstable run: start the "
+                      "bracket at dt_hi (unstable) and keep halving it")
+        elif error > 0:
+            ck.expect(False, what, detail, "too large: just above the limit |R| is barely above "
+                      "1, so the run grows very slowly. Run many steps (thousands) so that slow "
+                      "growth reaches the blow-up bound")
+        else:
+            ck.expect(False, what, detail, "too small: a stable run can grow for a while before "
+                      "it decays (here |v| reaches several times |x|), so a blow-up bound close to "
+                      "|y0| flags stable runs. Put the bound far above anything a stable run "
+                      "reaches, e.g. 1000 max|y0|")
+
+
+# --- exercise 3: do the powers of a step matrix stay bounded? --------------------------
+
+#: (description, M, bounded, why).
+MATRIX_CASES = [
+    ("rotation by 0.3 rad", [[np.cos(0.3), -np.sin(0.3)], [np.sin(0.3), np.cos(0.3)]], True,
+     "|μ| = 1, two distinct eigenvalues"),
+    ("symplectic Euler at ω dt = 2, [[-3, 2], [-2, 1]]", [[-3.0, 2.0], [-2.0, 1.0]], False,
+     "double eigenvalue -1 with one eigenvector: a Jordan block, M^n grows like n"),
+    ("-I", [[-1.0, 0.0], [0.0, -1.0]], True, "double eigenvalue -1, but two eigenvectors"),
+    ("shear [[1, 1], [0, 1]]", [[1.0, 1.0], [0.0, 1.0]], False, "Jordan block at +1"),
+    ("[[0.5, 100], [0, 0.5]]", [[0.5, 100.0], [0.0, 0.5]], True,
+     "spectral radius 0.5: a large transient, then decay"),
+    ("diag(1.01, 0.2)", [[1.01, 0.0], [0.0, 0.2]], False, "an eigenvalue 1.01 > 1"),
+    ("forward Euler on the vortex, dt = 0.5", [[1.0, -0.5], [0.5, 1.0]], False,
+     "|μ| = √1.25 > 1"),
+    ("diag(1, -1)", [[1.0, 0.0], [0.0, -1.0]], True, "|μ| = 1, distinct"),
+    ("[[0.9, 0.9], [-0.9, 0.9]]", [[0.9, 0.9], [-0.9, 0.9]], False, "|μ| = 0.9 √2 > 1"),
+    ("[[1, 0.5], [0, 0.5]]", [[1.0, 0.5], [0.0, 0.5]], True, "eigenvalues 1 and 0.5, distinct"),
 ]
 
 
-def _abs_R(pairs) -> np.ndarray:
-    return np.array([abs(complex(amplification_factor(m, z))) for m, z in pairs])
-
-
-def classification_answer(pairs=PAIRS, tol: float = 1e-12) -> list[bool]:
-    """The reference answer: ``|R(z)| <= 1`` (with round-off allowance ``tol``)."""
-    return [bool(a <= 1.0 + tol) for a in _abs_R(pairs)]
-
-
-def _strict_answer(pairs=PAIRS) -> list[bool]:
-    return [bool(a < 1.0) for a in _abs_R(pairs)]
-
-
-def _implicit_always_stable(pairs=PAIRS) -> list[bool]:
-    ref = classification_answer(pairs)
-    return [True if m in ("backward_euler", "trapezoidal") else s
-            for (m, _), s in zip(pairs, ref, strict=True)]
+def bounded_reference(M, tol: float = 1e-9) -> bool:
+    """Do the powers ``M^n`` stay bounded? Spectral radius ≤ 1, and every eigenvalue on the
+    unit circle has as many eigenvectors as its multiplicity."""
+    M = np.asarray(M, dtype=float)
+    mu = np.linalg.eigvals(M)
+    if np.max(np.abs(mu)) > 1 + tol:
+        return False
+    n = M.shape[0]
+    for m in mu[np.abs(np.abs(mu) - 1) <= tol]:
+        multiplicity = int(np.sum(np.abs(mu - m) <= 1e-6))
+        rank = np.linalg.matrix_rank(M - m * np.eye(n), tol=1e-6)
+        if n - rank < multiplicity:
+            return False
+    return True
 
 
 @exercise
-def largest_stable_dt(ck: Checker, func) -> None:
-    """``func(k)``: the largest stable forward Euler step on dx/dt = -k x, by experiment."""
-    for k in RATES:
-        got = func(k)
-        ck.close(
-            got, 2.0 / k, f"largest stable dt for k = {k:g} is 2/k = {2.0 / k:g} (within 1%)",
-            rtol=1e-2, atol=0.0,
-            hint="bisect: keep the stable half [lo, mid] or the unstable half [mid, hi]; run "
-                 "enough steps (hundreds) with a small blowup_bound (e.g. 2) so slow growth "
-                 "just above the limit is caught",
-            mistakes={
-                "that is 1/k, the limit for a run without sign flips (R = 1 - k dt >= 0); "
-                "stability only needs |1 - k dt| <= 1": 1.0 / k,
-                "your bisection never saw an unstable run: start hi above 2/k and check "
-                "traj.stable": 10.0,
-            },
-        )
-
-
-@exercise
-def euler_dt_limits(ck: Checker, func) -> None:
-    """``func(k) -> (dt_stable, dt_no_oscillation)`` for forward Euler on dx/dt = -k x."""
-    for k in RATES:
-        got = func(k)
-        ck.close(
-            got, (2.0 / k, 1.0 / k), f"k = {k:g}: (2/k, 1/k) = ({2.0 / k:g}, {1.0 / k:g})",
-            mistakes={
-                "the two limits are swapped: |1 - k dt| <= 1 gives the stability limit 2/k, "
-                "1 - k dt >= 0 the oscillation-free one 1/k": (1.0 / k, 2.0 / k),
-                "the limits scale like 1/k (a faster decay needs a smaller step), not like k":
-                    (2.0 * k, 1.0 * k),
-            },
-        )
-
-
-@exercise
-def classify_stability(ck: Checker, func) -> None:
-    """``func(pairs) -> list[bool]``: is each (method, z) in the method's stability region?"""
-    try:
-        got = func(list(PAIRS))
-    except ZeroDivisionError:
-        ck.expect(False, "classify every pair", "your code divided by zero",
-                  hint="the implicit methods have a pole (backward Euler at z = 1, the "
-                       "trapezoid at z = 2) where R = ∞: unstable. cl.amplification_factor "
-                       "returns inf there instead of raising")
+def powers_stay_bounded(ck: Checker, student) -> None:
+    """``student(M) -> bool`` on ten 2×2 matrices."""
+    wrong = []
+    answers = []
+    for what, M, expected, why in MATRIX_CASES:
+        ok, got = call(ck, what, student, np.array(M, dtype=float))
+        if not ok:
+            continue
+        if not isinstance(got, bool | np.bool_):
+            ck.expect(False, what, f"expected True or False, got {got!r}"[:120])
+            continue
+        answers.append((what, expected, bool(got)))
+        if bool(got) != expected:
+            wrong.append(f"{what}: expected {expected} ({why}), got {bool(got)}")
+    if not answers:
         return
-    if isinstance(got, np.ndarray):
-        got = got.tolist()
-    if not isinstance(got, list | tuple) or not all(
-        isinstance(b, bool | np.bool_) for b in got
-    ):
-        ck.expect(False, "return a list of booleans",
-                  f"got {type(got).__name__}: {got!r}"[:200])
-        return
-    ok = ck.close(
-        np.asarray(got, dtype=float), np.asarray(classification_answer(), dtype=float),
-        f"all {len(PAIRS)} pairs classified (1 = stable)",
-        mistakes={
-            "stable means |R(z)| <= 1, boundary included (|R| = 1 neither grows nor decays); "
-            "you used |R| < 1. Allow round-off: |R| <= 1 + 1e-12":
-                np.asarray(_strict_answer(), dtype=float),
-            "implicit methods are not stable everywhere: backward Euler is unstable inside "
-            "the disk |z - 1| < 1 and the trapezoid for Re z > 0; at their poles (z = 1 and "
-            "z = 2) R = ∞": np.asarray(_implicit_always_stable(), dtype=float),
-        },
-    )
-    if not ok and len(got) == len(PAIRS):
-        ref = classification_answer()
-        wrong = [f"{m} at z = {z}: expected {r}, got {bool(g)}"
-                 for (m, z), g, r in zip(PAIRS, got, ref, strict=True) if bool(g) != r]
-        ck.failed[-1] += "".join(f"\n      {w}" for w in wrong)
+    hint = None
+    got_by_case = {w: g for w, _, g in answers}
+    if got_by_case.get("symplectic Euler at ω dt = 2, [[-3, 2], [-2, 1]]") is True \
+            or got_by_case.get("shear [[1, 1], [0, 1]]") is True:
+        hint = ("spectral radius ≤ 1 is not enough: an eigenvalue on the unit circle with fewer "
+                "eigenvectors than its multiplicity (a Jordan block) makes M^n grow like n")
+    elif got_by_case.get("rotation by 0.3 rad") is False or got_by_case.get("-I") is False:
+        hint = ("|μ| = 1 neither grows nor decays: on the unit circle the powers stay bounded "
+                "when each eigenvalue there has a full set of eigenvectors")
+    elif got_by_case.get("[[0.5, 100], [0, 0.5]]") is False:
+        hint = ("a large entry or norm is only a transient: what decides the long run is the "
+                "spectral radius")
+    ck.expect(not wrong, f"all {len(answers)} matrices judged",
+              "".join(f"\n      {w}" for w in wrong), hint)

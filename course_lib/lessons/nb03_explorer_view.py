@@ -18,7 +18,6 @@ from .nb03_explorer_plot import MAX_DRAWN as MAX_DRAWN
 from .nb03_explorer_plot import ExperimentPlot
 from .nb03_explorer_plot import draw_experiment as draw_experiment
 from .nb03_problems import PROBLEMS
-from .nb03_regions import draw_region as draw_region
 from .nb03_stability import run_experiment
 
 
