@@ -1,15 +1,21 @@
 """Hair strands as chains of masses and springs: the strand model.
 
-A strand is a :func:`~course_lib.springs.hair_chain` (edge springs ``(i, i+1)``, bending
-springs ``(i, i+2)``, torsion springs ``(i, i+3)``, after Selle, Lentine & Fedkiw 2008)
-with its root particle(s) pinned. An animation shows one picture per *frame* (1/30 s)
-but an explicit integrator must take steps shorter than ``2 / ω_max`` of the stiff edge
-springs, so each frame is split into ``substeps`` steps. A "hairstyle" puts several
-strands in one :class:`~course_lib.springs.SpringNetwork`, so one vectorized force call
-moves them all, and a sphere collision keeps them outside the head.
+A strand is a row of particles joined by edge, bending and torsion springs
+(:func:`~course_lib.springs.hair_chain`, :func:`~course_lib.strands.strand_network`, after
+Selle, Lentine & Fedkiw 2008) with its root particle(s) pinned. An animation shows one
+picture per *frame* (1/30 s), but an explicit integrator must take steps shorter than
+``2 / ω_max`` of the stiff edge springs, so each frame is split into ``substeps`` steps.
 
-Core module: imports only other core modules (no plotting, widgets or lessons).
-Notebook 08's scenes and widget live in :mod:`course_lib.lessons.nb08_hair_chains`.
+- :func:`simulate` runs a strand (or a whole hairstyle: several strands in one
+  :class:`~course_lib.springs.SpringNetwork`) with symplectic Euler, written out as one
+  short loop of whole-array operations (:func:`symplectic_euler_run`): the same numbers as
+  :func:`~course_lib.integrators.integrate`, at a fraction of the cost per step;
+- :func:`static_shape` finds the equilibrium under gravity by Newton's method with the
+  stiffness matrix; :func:`chain_dt_max` measures the step limit;
+- :func:`hairstyle` roots curly strands on a spherical head, :func:`head_collision` keeps
+  them outside it.
+
+Core module: imports NumPy, SciPy and other core modules only.
 """
 
 from __future__ import annotations
@@ -17,13 +23,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg import LinAlgError, cho_factor, cho_solve
 
 from .collisions import sphere
 from .forces import G_EARTH, constant_gravity, viscous_damping
-from .integrators import integrate
-from .springs import SpringNetwork, hair_chain, max_frequency
+from .springs import SpringNetwork, max_frequency, stiffness_matrix
 from .stability import bisect_stable_dt
-from .systems import NewtonianSystem, split_state, stack_state, sum_forces
+from .strands import helix, strand_network
+from .systems import NewtonianSystem, sum_forces
 
 #: The strand used throughout notebook 08: 16 particles of 0.1 g over 30 cm, stiff edges.
 STRAND = {"n": 16, "length": 0.3, "k_edge": 2000.0}
@@ -61,7 +68,9 @@ class HairRun:
 
 def strand_system(network: SpringNetwork, mass=MASS, pinned=(0,), damping: float = 0.0,
                   gravity=G_EARTH) -> NewtonianSystem:
-    """Springs + gravity + viscous damping ``-c v`` on particles of mass ``mass``."""
+    """Springs + gravity + viscous damping ``-c v`` as a :class:`NewtonianSystem`, for
+    :func:`~course_lib.integrators.integrate` (any method); :func:`symplectic_euler_run`
+    is the same system stepped by symplectic Euler."""
     forces = [network.force]
     if gravity is not None:
         forces.append(constant_gravity(mass, gravity))
@@ -70,23 +79,91 @@ def strand_system(network: SpringNetwork, mass=MASS, pinned=(0,), damping: float
     return NewtonianSystem(sum_forces(*forces), mass, pinned=list(pinned))
 
 
+def symplectic_euler_run(x0, network: SpringNetwork, dt: float, n_steps: int, *, mass=MASS,
+                         pinned=(0,), damping: float = 0.0, gravity=G_EARTH, v0=None,
+                         post_step=None, blowup_bound: float = 100.0):
+    """``n_steps`` steps of symplectic Euler on springs + gravity + viscous damping ``-c v``.
+
+    Each step: spring forces (gather ``x_i - x_j`` for every spring, one force per spring,
+    scatter onto particles), then ``v += dt F/m`` (zero for ``pinned`` particles), then
+    ``x += dt v``, then ``post_step(t, (x, v))`` if given. The state is checked every 16
+    steps: the run stops at the first step where a coordinate or velocity passes
+    ``blowup_bound`` (or is not finite), as :func:`~course_lib.integrators.integrate` does.
+
+    Returns
+    -------
+    x : ndarray, shape (n_steps+1, N, 3)
+        Positions at every step (NaN after a blow-up).
+    message : str
+        ``"ok"`` or ``"unstable at step k, t = … (|y| > bound)"``.
+    """
+    x = np.array(x0, dtype=float)
+    n, dim = x.shape
+    v = np.zeros_like(x) if v0 is None else np.array(v0, dtype=float)
+    m = np.broadcast_to(np.asarray(mass, dtype=float), (n,))
+    free = np.ones(n)
+    free[list(pinned)] = 0.0
+    M = network.n_springs
+    # D: +1 at (i_s, s), -1 at (j_s, s). Gather: d = Dᵀ x; scatter: F = D f. Dense for a
+    # few strands, where it is fastest; each step is a dozen whole-array operations.
+    D = np.zeros((n, M))
+    D[network.i, np.arange(M)] += 1.0
+    D[network.j, np.arange(M)] -= 1.0
+    gather = D.T.copy()
+    kick = -dt * D * (free / m)[:, None]          # dv = kick @ (a d), force on i is -a d
+    k, k_rest, c = network.k, network.k * network.rest, network.c
+    damped_springs = bool(np.any(c))
+    g_dt = dt * np.asarray([0.0] * dim if gravity is None else gravity, dtype=float)
+    fall = free[:, None] * g_dt
+    keep = 1.0 - dt * float(damping) / m[:, None]
+    X = np.full((n_steps + 1, n, dim), np.nan)
+    X[0] = x
+    V = np.empty((16, n, dim))
+    message, start = "ok", 1
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        for step in range(1, n_steps + 1):
+            d = gather @ x
+            length = np.sqrt(np.einsum("md,md->m", d, d))
+            a = k - k_rest / length                  # k (ℓ - L) / ℓ
+            if damped_springs:
+                a += c * np.einsum("md,md->m", gather @ v, d) / length**2
+            v *= keep
+            v += kick @ (a[:, None] * d)
+            v += fall
+            x += dt * v
+            if post_step is not None:
+                y = post_step(step * dt, np.stack((x, v)))
+                x[...], v[...] = y[0], y[1]
+            X[step] = x
+            V[step % 16] = v
+            if step % 16 == 0 or step == n_steps:
+                block = slice(start, step + 1)
+                size = np.maximum(np.abs(X[block]).max(axis=(1, 2)),
+                                  np.abs(V[np.arange(start, step + 1) % 16]).max(axis=(1, 2)))
+                bad = np.flatnonzero(~(size <= blowup_bound))
+                if bad.size:
+                    k_bad = start + int(bad[0])
+                    finite = bool(np.isfinite(size[bad[0]]))
+                    X[k_bad + finite:] = np.nan      # a finite state past the bound is kept
+                    why = f"|y| > {blowup_bound:.3g}" if finite else "non-finite state"
+                    message = f"unstable at step {k_bad}, t = {k_bad * dt:.6g} ({why})"
+                    break
+                start = step + 1
+    return X, message
+
+
 def simulate(x0, network: SpringNetwork, *, frames: int, substeps: int, fps: float = FPS,
              mass=MASS, pinned=(0,), damping: float = 0.0, gravity=G_EARTH, v0=None,
-             method: str = "symplectic_euler", post_step=None, blowup_bound: float = 100.0
-             ) -> HairRun:
-    """Run a strand (or hairstyle) for ``frames`` frames of ``substeps`` steps each.
-
-    The step is ``dt = 1 / (fps * substeps)``. ``blowup_bound`` (m or m/s) is far beyond
-    anything a 30 cm strand does, so passing it means the run exploded.
-    """
-    x0 = np.asarray(x0, dtype=float)
-    system = strand_system(network, mass, pinned, damping, gravity)
-    y0 = stack_state(x0, np.zeros_like(x0) if v0 is None else v0)
+             post_step=None, blowup_bound: float = 100.0) -> HairRun:
+    """Run a strand (or hairstyle) for ``frames`` frames of ``substeps`` steps each, with
+    symplectic Euler and ``dt = 1 / (fps * substeps)``. ``blowup_bound`` (m or m/s) is far
+    beyond anything a 30 cm strand does, so passing it means the run exploded."""
     dt = 1.0 / (fps * substeps)
-    traj = integrate(system, y0, (0.0, frames / fps), dt, method=method, post_step=post_step,
-                     blowup_bound=blowup_bound)
-    x, _ = split_state(traj.y)
-    return HairRun(traj.t[::substeps], x[::substeps], x, dt, traj.stable, traj.message)
+    x, message = symplectic_euler_run(x0, network, dt, frames * substeps, mass=mass,
+                                      pinned=pinned, damping=damping, gravity=gravity, v0=v0,
+                                      post_step=post_step, blowup_bound=blowup_bound)
+    t = np.arange(frames + 1) / fps
+    return HairRun(t, x[::substeps], x, dt, message == "ok", message)
 
 
 def max_strain(run: HairRun, network: SpringNetwork, kind: str = "edge") -> float:
@@ -109,51 +186,92 @@ def chain_dt_max(network: SpringNetwork, x0, mass=MASS, pinned=(0,), n_steps: in
     x0 = np.asarray(x0, dtype=float)
     nudge = amplitude * rng.standard_normal(x0.shape)
     nudge[list(pinned)] = 0.0
-    system = strand_system(network, mass, pinned, gravity=None)
-    y0 = stack_state(x0 + nudge, np.zeros_like(x0))
     guess = 2.0 / max_frequency(network, x0, mass, pinned)
 
     def stable(dt):
-        return integrate(system, y0, (0.0, n_steps * dt), dt, method="symplectic_euler",
-                         blowup_bound=1.0).stable
+        _, message = symplectic_euler_run(x0 + nudge, network, dt, n_steps, mass=mass,
+                                          pinned=pinned, gravity=None, blowup_bound=1.0)
+        return message == "ok"
 
     return bisect_stable_dt(stable, 0.6 * guess, 1.6 * guess, rtol)
 
 
-def static_shape(x0, network: SpringNetwork, mass=MASS, pinned=(0, 1), gravity=G_EARTH):
-    """Equilibrium positions under gravity: the minimum of elastic + gravitational energy
-    reached from ``x0`` (L-BFGS with the exact gradient, the negative net force)."""
-    from scipy.optimize import minimize
+def static_shape(x0, network: SpringNetwork, mass=MASS, pinned=(0, 1), gravity=G_EARTH,
+                 rtol: float = 1e-9, max_iter: int = 300) -> np.ndarray:
+    """Equilibrium positions under gravity: a minimum of elastic + gravitational energy
+    reached from ``x0`` by Newton's method.
 
-    x0 = np.asarray(x0, dtype=float)
-    n = x0.shape[0]
+    Each iteration solves ``K δx = F`` for the free particles, ``K`` the stiffness matrix
+    (the energy's Hessian) and ``F`` the net force (its negative gradient), by Cholesky.
+    Where ``K`` is not positive definite (compressed springs; a straight strand has no
+    stiffness across itself, a flat one none across its plane) the step uses ``K``
+    without the compressed springs' negative term plus a tiny multiple of the identity,
+    which keeps it downhill; close to the equilibrium it uses ``K`` with its eigenvalues
+    replaced by their absolute values instead ("saddle-free" Newton), which converges
+    fast. A backtracking line search keeps every step an improvement of the energy (or,
+    once the energy no longer resolves the change, of the net force). Stops when the net
+    force on the free particles is below ``rtol`` times their weight.
+    """
+    x = np.array(x0, dtype=float)
+    n, dim = x.shape
     m = np.broadcast_to(np.asarray(mass, dtype=float), (n,))[:, None]
     g = np.asarray(gravity, dtype=float)
     free = np.setdiff1d(np.arange(n), np.asarray(pinned, dtype=int))
+    dofs = (free[:, None] * dim + np.arange(dim)).ravel()
+    weight = float(np.sum(m[free]) * np.linalg.norm(g)) or 1.0
 
-    def energy_and_gradient(z):
-        x = x0.copy()
-        x[free] = z.reshape(-1, 3)
-        e = network.energy(x) - np.sum(m * (x @ g)[:, None])
-        return e, -(network.forces(x) + m * g)[free].ravel()
+    def energy(z):
+        return network.energy(z) - float(np.sum(m[:, 0] * (z @ g)))
 
-    res = minimize(energy_and_gradient, x0[free].ravel(), jac=True, method="L-BFGS-B",
-                   options={"gtol": 1e-12, "ftol": 1e-15, "maxiter": 20000})
-    x = x0.copy()
-    x[free] = res.x.reshape(-1, 3)
-    return x
+    def gradient(z):
+        return -(network.forces(z) + m * g)[free].ravel()
+
+    def newton_step(norm):
+        K = stiffness_matrix(network, x)[np.ix_(dofs, dofs)]
+        floor = 1e-9 * np.trace(K) / len(dofs)
+        try:
+            return -cho_solve(cho_factor(K), grad)
+        except LinAlgError:
+            pass
+        if norm < 1e-3 * weight:
+            lam, V = np.linalg.eigh(K)
+            return -(V @ ((V.T @ grad) / np.maximum(np.abs(lam), floor)))
+        K = stiffness_matrix(network, x, definite=True)[np.ix_(dofs, dofs)]
+        return -cho_solve(cho_factor(K + floor * np.eye(len(dofs))), grad)
+
+    E, grad = energy(x), gradient(x)
+    for _ in range(max_iter):
+        norm = np.linalg.norm(grad)
+        if norm < rtol * weight:
+            return x
+        step = newton_step(norm)
+        alpha = 1.0
+        while True:
+            trial = x.copy()
+            trial[free] += alpha * step.reshape(-1, dim)
+            E_t, g_t = energy(trial), gradient(trial)
+            if E_t <= E + 1e-4 * alpha * (grad @ step) or (
+                    E_t <= E + 1e-12 * abs(E) and np.linalg.norm(g_t) < norm):
+                break
+            alpha *= 0.5
+            if alpha < 1e-12:
+                raise RuntimeError("static_shape: the line search found no lower energy")
+        x, E, grad = trial, E_t, g_t
+    raise RuntimeError(f"static_shape did not converge in {max_iter} Newton iterations")
 
 
 # --- several strands on a head ------------------------------------------------------------
 
 
 def hairstyle(n_strands: int = 7, center=(0.0, 0.0, 0.0), radius: float = 0.1,
-              seed: int = 2026, **strand):
-    """Several strands rooted on the upper half of a spherical head, in ONE network.
+              seed: int = 2026, curl_radius: float = 0.008, turn: float = np.pi / 3, **strand):
+    """Several curly strands rooted on the upper half of a spherical head, in ONE network.
 
-    Roots are spread over the top of the sphere (seeded jitter); each strand starts
-    straight along the outward normal at its root. Strand ``s`` owns particles
-    ``s*n ... s*n + n - 1``; its root ``s*n`` is pinned.
+    Roots are spread around the crown (seeded jitter). Each strand is a helix of radius
+    ``curl_radius`` (m) about the outward normal at its root (:func:`~course_lib.strands.helix`)
+    with edge, bending and torsion springs measured on that curly rest shape (``strand``
+    overrides :data:`STRAND` and may set ``k_bend``, ``k_twist``). Strand ``s`` owns
+    particles ``s*n ... s*n + n - 1``; its root ``s*n`` is pinned.
 
     Returns
     -------
@@ -164,23 +282,22 @@ def hairstyle(n_strands: int = 7, center=(0.0, 0.0, 0.0), radius: float = 0.1,
     params = {**STRAND, **strand}
     n = params["n"]
     rng = np.random.default_rng(seed)
-    # Roots: a ring of strands around the crown, tilted from the vertical by `polar`.
     azimuth = np.linspace(0.0, 2 * np.pi, n_strands, endpoint=False) + 0.2 * rng.uniform(-1, 1, n_strands)
     polar = np.deg2rad(45.0 + 15.0 * rng.uniform(-1, 1, n_strands))
     normal = np.stack((np.sin(polar) * np.cos(azimuth), np.cos(polar),
                        np.sin(polar) * np.sin(azimuth)), axis=1)
     c = np.asarray(center, dtype=float)
-    _, net_one = hair_chain(**params)      # one straight strand's springs
-    s = np.arange(n)[None, :, None] * (params["length"] / (n - 1))
-    x0 = (c + radius * normal)[:, None, :] + s * normal[:, None, :]
-    offsets = (np.arange(n_strands) * n)[:, None]
-    m = net_one.n_springs
-    net = SpringNetwork((offsets + net_one.i).ravel(), (offsets + net_one.j).ravel(),
-                        np.tile(net_one.rest, n_strands), np.tile(net_one.k, n_strands),
-                        np.tile(net_one.c, n_strands), n_strands * n,
-                        np.tile(net_one.kind, n_strands))
-    assert net.n_springs == m * n_strands
-    return x0.reshape(-1, 3), net, offsets.ravel()
+    shapes = [helix(n, params["length"], curl_radius, turn, root=c + radius * nrm, axis=nrm)
+              for nrm in normal]
+    nets = [strand_network(x, params["k_edge"], params.get("k_bend", 0.0),
+                           params.get("k_twist", 0.0)) for x in shapes]
+    offsets = np.arange(n_strands) * n
+    net = SpringNetwork(np.concatenate([o + s.i for o, s in zip(offsets, nets, strict=True)]),
+                        np.concatenate([o + s.j for o, s in zip(offsets, nets, strict=True)]),
+                        np.concatenate([s.rest for s in nets]), np.concatenate([s.k for s in nets]),
+                        np.concatenate([s.c for s in nets]), n_strands * n,
+                        np.concatenate([s.kind for s in nets]))
+    return np.concatenate(shapes), net, offsets
 
 
 def head_collision(center=(0.0, 0.0, 0.0), radius: float = 0.1, pinned=()):

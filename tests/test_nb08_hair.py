@@ -3,11 +3,14 @@
 import numpy as np
 import pytest
 
+import course_lib as cl
 from course_lib import hair as H
 from course_lib import springs as S
+from course_lib import strands
 from course_lib.check import RESULTS
 from course_lib.check import nb08 as check
 from course_lib.lessons import nb08_hair_chains as nb08
+from course_lib.lessons import nb08_hair_view as view08
 
 M, K = H.MASS, H.STRAND["k_edge"]
 
@@ -129,29 +132,52 @@ def test_damping_calms_the_strand():
 
 def test_widget_blowup_state():
     run = nb08.run_held_strand(k_bend=2000.0, damping=2e-3, dt=1.9e-4, t_end=0.5)
-    assert not run.stable and "step 32" in run.message and "t = 0.00608" in run.message
+    assert not run.stable and run.message == "unstable at step 32, t = 0.00608 (|y| > 100)"
+    assert run.last_step == 32 and np.all(np.isfinite(run.last_finite))
+    assert run.growth.shape == (33,) and run.growth[-1] > 1e-3 and run.growth[0] == 0.0
+
+
+def test_widget_key_states():
+    soft = nb08.run_held_strand(k_bend=10.0, damping=2e-3, dt=1e-4, t_end=0.4)
+    assert soft.stable and round(-soft.equilibrium[-1, 1] * 100) == 27      # "27 cm below"
+    assert soft.tip_y[-1] > soft.equilibrium[-1, 1] + 0.05                   # still falling
+    assert nb08.tip_sag(10.0, 0.3) < nb08.tip_sag(0.0, 0.3)                   # "almost as low"
 
 
 def test_held_strand_explorer_view():
     view = nb08.held_strand_explorer(k_bend=2000.0, damping=2e-3, dt=1e-4)
-    assert view.result.stable
+    r = view.result
+    assert r.stable and r.params["steps"] == 4000 and r.params["t_shown"] == pytest.approx(0.4)
+    assert "updated in" in view.status.value
     view.controls["dt"].value = 3e-4                      # past the 0.184 ms limit
-    assert not view.result.stable
+    assert not view.result.stable and "stopped after step" in view.figure.texts[1].get_text()
+    view.controls["dt"].value = 2e-5                      # the cap: 4000 steps, 0.08 s
+    r = view.result
+    assert r.params["steps"] == view08.MAX_STEPS == 4000 and r.params["t_shown"] == pytest.approx(0.08)
+    assert "the widget's cap" in view.figure.texts[1].get_text()
     view.controls["k_bend"].value = 10.0                  # soft bending springs: droops
     view.controls["dt"].value = 1e-4
     r = view.result
     assert r.stable and r.params["k_bend"] == pytest.approx(10.0, rel=1e-2)
     assert r.equilibrium[-1, 1] < -0.25
+    # the widget runs what run_held_strand runs
+    same = nb08.run_held_strand(k_bend=view.controls["k_bend"].value, damping=2e-3, dt=1e-4,
+                                t_end=0.4, max_steps=4000)
+    assert np.array_equal(same.tip_y, r.tip_y)
 
 
 def test_hairstyle_one_network_and_head_collision():
     center, R = np.zeros(3), 0.1
-    xs, net, roots = H.hairstyle(n_strands=7, center=center, radius=R, k_bend=200.0)
-    assert xs.shape == (112, 3) and net.n_springs == 203 and roots.tolist() == list(range(0, 112, 16))
+    xs, net, roots = H.hairstyle(n_strands=7, center=center, radius=R, k_bend=200.0, k_twist=100.0)
+    assert xs.shape == (112, 3) and net.n_springs == 7 * (15 + 14 + 13) == 294
+    assert roots.tolist() == list(range(0, 112, 16))
     assert np.allclose(np.linalg.norm(xs[roots] - center, axis=1), R)
     assert np.allclose(net.strain(xs), 0.0) and np.allclose(net.forces(xs), 0.0, atol=1e-9)
+    # curly: every strand is a helix, so its bending springs are shorter than two segments
+    bend = net.select("bend")
+    assert np.all(bend.rest < 2 * 0.02 - 1e-4)
     w = S.max_frequency(net, xs, M, pinned=roots)
-    assert 2e3 / w == pytest.approx(0.2244, abs=5e-5)
+    assert 2e3 / w == pytest.approx(0.2247, abs=5e-5)
     assert 1e3 / (30 * 180) == pytest.approx(0.1852, abs=5e-5) and 1 / (30 * 180) < 2 / w
     style = H.simulate(xs, net, frames=45, substeps=180, pinned=roots, damping=2e-3,
                        post_step=H.head_collision(center, R, pinned=roots))
@@ -159,6 +185,102 @@ def test_hairstyle_one_network_and_head_collision():
     assert np.linalg.norm(style.x - center, axis=-1).min() >= R * (1 - 1e-12)
     assert H.max_strain(style, net) == pytest.approx(0.0026, abs=5e-5)
     assert np.all(style.x[:, roots] == xs[roots])
+    # at rest after 1.5 s: the strands hang below the top of the head
+    assert np.all(style.frames[-1][:, 1] < 0.1 + 1e-9)
+
+
+def test_fast_loop_is_symplectic_euler():
+    x0, net = S.hair_chain(**H.STRAND, k_bend=300.0, zigzag=0.3)
+    for damping, pinned in ((0.0, (0,)), (2e-3, (0, 1))):
+        system = H.strand_system(net, M, pinned, damping)
+        traj = cl.integrate(system, cl.stack_state(x0, np.zeros_like(x0)), (0.0, 0.2), 1e-4,
+                            "symplectic_euler")
+        x, message = H.symplectic_euler_run(x0, net, 1e-4, 2000, pinned=pinned, damping=damping)
+        assert message == "ok" and np.abs(traj.y[:, 0] - x).max() < 1e-12
+    # the same verdict as integrate when it blows up
+    system = H.strand_system(net, M, (0,), 0.0)
+    traj = cl.integrate(system, cl.stack_state(x0, np.zeros_like(x0)), (0.0, 2000 * 2.5e-4),
+                        2.5e-4, "symplectic_euler", blowup_bound=100.0)
+    x, message = H.symplectic_euler_run(x0, net, 2.5e-4, 2000, blowup_bound=100.0)
+    assert message == traj.message == "unstable at step 29, t = 0.00725 (|y| > 100)"
+    assert np.all(np.isnan(x[30:])) and np.all(np.isfinite(x[:30]))
+    # damping along the springs and a post-step response go through too
+    _, net_c = S.hair_chain(**H.STRAND, c_edge=0.05)
+    ground = cl.collisions.plane(normal=(0.0, 1.0, 0.0), offset=-0.1, restitution=0.0)
+    system = H.strand_system(net_c, M, (0,), 0.0)
+    traj = cl.integrate(system, cl.stack_state(x0, np.zeros_like(x0)), (0.0, 0.1), 1e-4,
+                        "symplectic_euler", post_step=ground)
+    x, _ = H.symplectic_euler_run(x0, net_c, 1e-4, 1000, post_step=ground)
+    assert np.abs(traj.y[:, 0] - x).max() < 1e-12
+
+
+def test_newton_equilibrium():
+    for k_bend, zigzag in ((0.0, 0.0), (2000.0, 0.0), (2000.0, 0.3), (10.0, 0.3), (1e4, 0.3)):
+        x0, net = nb08.held_strand(k_bend, zigzag)
+        x = H.static_shape(x0, net)
+        F = net.forces(x) + M * np.array([0.0, -9.81, 0.0])
+        assert np.linalg.norm(F[2:]) < 1e-9 * 14 * M * 9.81          # balanced to 1e-9
+        assert np.all(x[:2] == x0[:2])                              # the clamp holds
+        # a minimum in the strand's plane: the stiffness matrix of the free particles'
+        # x and y is positive semidefinite
+        in_plane = (np.arange(2, 16)[:, None] * 3 + np.arange(2)).ravel()
+        K = S.stiffness_matrix(net, x)
+        assert np.linalg.eigvalsh(K[np.ix_(in_plane, in_plane)]).min() > -1e-9 * np.abs(K).max()
+        # out of the plane the held-out zigzag is unstable: its compressed springs give
+        # negative stiffness across the plane (it would flop sideways)
+        out = np.arange(2, 16) * 3 + 2
+        lowest = np.linalg.eigvalsh(K[np.ix_(out, out)]).min()
+        assert (lowest < -1.0) == (k_bend >= 2000.0 and zigzag > 0), (k_bend, zigzag, lowest)
+        if (k_bend, zigzag) == (2000.0, 0.3):
+            assert round(np.linalg.eigvalsh(K[6:, 6:]).min()) == -22        # "about -22 N/m"
+
+
+def test_twist_needs_a_non_planar_strand():
+    shapes = nb08.twist_shapes()
+    angles = np.geomspace(1e-3, 1e-2, 8)
+    slopes = {}
+    for name, x0 in shapes.items():
+        E = nb08.twist_energy(x0, angles)
+        if name == "straight":
+            assert E.max() < 1e-28                                  # a rigid rotation: 0
+            continue
+        slopes[name] = np.polyfit(np.log(angles), np.log(E), 1)[0]
+        # without torsion springs no shape resists a twist at all (edge/bending springs span
+        # three particles, always coplanar with the axis)
+        assert nb08.twist_energy(x0, angles, k_twist=0.0).max() < 1e-28
+    assert slopes["planar curl"] == pytest.approx(4.0, abs=5e-4)
+    assert slopes["zigzag"] == pytest.approx(4.0, abs=5e-4)
+    assert slopes["helix"] == pytest.approx(2.0, abs=5e-3)
+    assert {k: f"{v:.3f}" for k, v in slopes.items()} == {
+        "planar curl": "4.000", "zigzag": "4.000", "helix": "2.003"}
+    assert f"{nb08.twist_energy(shapes['helix'], 1e-3)[0]:.3e}" == "4.540e-10"
+    # the first-order rate 2 (b - a).(u x (b - x_p)) vanishes for planar shapes only
+    for name, x0 in shapes.items():
+        u = (x0[2] - x0[1]) / np.linalg.norm(x0[2] - x0[1])
+        rate = 2 * (x0[3] - x0[0]) @ np.cross(u, x0[3] - x0[2])
+        assert (abs(rate) > 1e-6) == (name == "helix"), name
+    # released: the helix untwists, the planar ones stay twisted
+    final = {name: nb08.twist_release(shapes[name])[1][-1] for name in ("planar curl", "zigzag", "helix")}
+    assert round(final["helix"], 2) == 0.01
+    assert final["planar curl"] == pytest.approx(0.3, abs=1e-3)
+    assert final["zigzag"] == pytest.approx(0.3, abs=6e-3)
+
+
+def test_twist_tools():
+    x0 = strands.helix(16, 0.3, 0.01, np.pi / 3)
+    seg = np.linalg.norm(np.diff(x0, axis=0), axis=1)
+    assert np.allclose(seg, 0.02, rtol=1e-12)
+    x = strands.twist(x0, 0.25, 4)
+    assert strands.twist_angle(x, x0, 4) == pytest.approx(0.25, rel=1e-12)
+    assert np.allclose(np.linalg.norm(np.diff(x, axis=0), axis=1), 0.02)   # a rigid turn
+    net = strands.strand_network(x0, 2000.0, 100.0, 50.0)
+    assert {k: net.select(k).n_springs for k in ("edge", "bend", "twist")} == {
+        "edge": 15, "bend": 14, "twist": 13}
+    xs, net_chain = S.hair_chain(**H.STRAND, k_bend=100.0, k_twist=50.0, zigzag=0.3)
+    same = strands.strand_network(xs, 2000.0, 100.0, 50.0)
+    assert np.array_equal(same.i, net_chain.i) and np.allclose(same.rest, net_chain.rest)
+    with pytest.raises(ValueError, match="chord"):
+        strands.helix(16, 0.3, radius=0.05, turn=np.pi / 2)
 
 
 # --- the exercise checks -------------------------------------------------------------------
@@ -168,28 +290,68 @@ def _status(name):
     return RESULTS[f"nb08.{name}"]["status"]
 
 
-def test_check_chain_spring_indices(capsys):
-    def right(n):
-        e, b = np.arange(n - 1), np.arange(n - 2)
-        return np.r_[e, b], np.r_[e + 1, b + 2]
+def _springs(x0):
+    x0 = np.asarray(x0, dtype=float)
+    n = len(x0)
+    i = np.concatenate([np.arange(n - o) for o in (1, 2, 3)])
+    j = np.concatenate([np.arange(o, n) for o in (1, 2, 3)])
+    return i, j, np.linalg.norm(x0[i] - x0[j], axis=1)
 
-    check.chain_spring_indices(right)
-    assert _status("chain_spring_indices") == "correct"
+
+def test_check_strand_springs(capsys):
+    check.strand_springs(_springs)
+    assert _status("strand_springs") == "correct"
+
+    def shuffled(x0):                     # any order, either orientation
+        i, j, rest = _springs(x0)
+        order = np.random.default_rng(1).permutation(i.size)
+        return j[order], i[order], rest[order].astype(np.float32)
+
+    check.strand_springs(shuffled)
+    assert _status("strand_springs") == "correct"
     capsys.readouterr()
 
-    def one_too_many(n):
-        e, b = np.arange(n - 1), np.arange(n - 1)
-        return np.r_[e, b], np.r_[e + 1, b + 2]
+    def neighbours(x0):                   # bending written as (i+1, i+2), torsion (i+2, i+3)
+        n = len(x0)
+        i = np.r_[np.arange(n - 1), np.arange(n - 2) + 1, np.arange(n - 3) + 2]
+        return i, i + 1, np.linalg.norm(x0[i] - x0[i + 1], axis=1)
 
-    check.chain_spring_indices(one_too_many)
-    assert _status("chain_spring_indices") == "incorrect"
-    assert "off by one" in capsys.readouterr().out
+    def straight_rest(x0):                # rest lengths as on a straight strand
+        i, j, _ = _springs(x0)
+        return i, j, np.linalg.norm(x0[1] - x0[0]) * (j - i)
 
-    def pending(n):
+    def no_torsion(x0):
+        n = len(x0)
+        i = np.r_[np.arange(n - 1), np.arange(n - 2)]
+        j = np.r_[np.arange(1, n), np.arange(2, n)]
+        return i, j, np.linalg.norm(x0[i] - x0[j], axis=1)
+
+    def one_too_many(x0):
+        n = len(x0)
+        i = np.r_[np.arange(n - 1), np.arange(n - 1), np.arange(n - 3)]
+        j = np.r_[np.arange(1, n), np.arange(2, n + 1), np.arange(3, n)]
+        return i, j, np.ones(i.size)
+
+    for answer, hint in [(neighbours, "join neighbours, e.g. (i+1, i+2)"),
+                         (straight_rest, "measure each rest length on the rest shape"),
+                         (no_torsion, "three families"), (one_too_many, "off by one")]:
+        check.strand_springs(answer)
+        assert _status("strand_springs") == "incorrect"
+        assert hint in capsys.readouterr().out, hint
+
+    def borrowed(x0):
+        net = cl.strands.strand_network(x0, 1.0, 1.0, 1.0)
+        return net.i, net.j, net.rest
+
+    borrowed.__module__ = "__main__"
+    check.strand_springs(borrowed)
+    assert "uses the reference" in capsys.readouterr().out
+
+    def pending(x0):
         raise NotImplementedError()
 
-    check.chain_spring_indices(pending)
-    assert _status("chain_spring_indices") == "pending"
+    check.strand_springs(pending)
+    assert _status("strand_springs") == "pending"
 
 
 def test_check_max_strain_for_substeps(capsys):
@@ -207,6 +369,16 @@ def test_check_max_strain_for_substeps(capsys):
     check.max_strain_for_substeps(frames_only)
     assert _status("max_strain_for_substeps") == "incorrect"
     assert "at the frames only" in capsys.readouterr().out
+
+    check.max_strain_for_substeps(lambda counts: [np.nan] * len(counts))
+    assert "NaN" in capsys.readouterr().out
+
+    def borrowed(counts):
+        return nb08.max_strain_vs_substeps(counts)
+
+    borrowed.__module__ = "__main__"
+    check.max_strain_for_substeps(borrowed)
+    assert "uses the reference" in capsys.readouterr().out
 
     def pending(counts):
         raise NotImplementedError()

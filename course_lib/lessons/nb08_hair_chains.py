@@ -1,8 +1,10 @@
-"""Notebook 08 (hair chains): the held strand, its widget, substep studies, animations.
+"""Notebook 08 (hair chains): the held strand and its widget's computation, substep
+studies, the twist experiments.
 
-Built on the strand model of :mod:`course_lib.hair` and the springs of
-:mod:`course_lib.springs`; imports view helpers (:mod:`course_lib.plotting`,
-:mod:`course_lib.widgets`). The core never imports this module.
+Built on the strand model of :mod:`course_lib.hair` and :mod:`course_lib.strands` and the
+springs of :mod:`course_lib.springs`. The drawings, the widget and the animations live in
+:mod:`course_lib.lessons.nb08_hair_view` (re-exported here: :func:`draw_held_strand`,
+:func:`held_strand_explorer`, :func:`animate`). The core never imports this module.
 """
 
 from __future__ import annotations
@@ -12,10 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..hair import FPS, MASS, STRAND, max_strain, simulate, static_shape, strand_system
-from ..integrators import integrate
-from ..springs import SpringNetwork, hair_chain, max_frequency
-from ..systems import split_state, stack_state
+from ..hair import FPS, MASS, STRAND, max_strain, simulate, static_shape, symplectic_euler_run
+from ..springs import hair_chain, max_frequency
+from ..strands import helix, strand_network, twist, twist_angle
 
 
 def stiffest_edge(substeps: int, fps: float = FPS, mass=MASS, safety: float = 0.5) -> float:
@@ -41,12 +42,18 @@ def held_strand(k_bend: float = 0.0, zigzag: float = 0.0, **strand):
     return hair_chain(**{**STRAND, "k_bend": k_bend, "zigzag": zigzag, **strand})
 
 
-@functools.lru_cache(maxsize=64)
+@functools.lru_cache(maxsize=256)
 def _held_equilibrium(k_bend: float, zigzag: float) -> np.ndarray:
     x0, net = held_strand(k_bend, zigzag)
     x = static_shape(x0, net)
     x.setflags(write=False)
     return x
+
+
+@functools.lru_cache(maxsize=256)
+def _held_limit(k_bend: float, zigzag: float) -> float:
+    x0, net = held_strand(k_bend, zigzag)
+    return 2.0 / max_frequency(net, x0, MASS, (0, 1))
 
 
 def tip_sag(k_bend: float = 0.0, zigzag: float = 0.0) -> float:
@@ -56,113 +63,97 @@ def tip_sag(k_bend: float = 0.0, zigzag: float = 0.0) -> float:
     return float(x0[-1, 1] - _held_equilibrium(float(k_bend), float(zigzag))[-1, 1])
 
 
-# --- the notebook 08 widget ---------------------------------------------------------------
+# --- the notebook 08 widget's pure function -------------------------------------------------
 
 
 @dataclass
 class HeldStrandRun:
     """Result of :func:`run_held_strand`."""
 
-    t: np.ndarray
-    frames: np.ndarray
-    tip_y: np.ndarray
-    equilibrium: np.ndarray
+    t: np.ndarray             #: snapshot times (s), shape (F,)
+    frames: np.ndarray        #: strand at the snapshots (m), shape (F, 16, 3)
+    tip_y: np.ndarray         #: tip height at every step (m); NaN after a blow-up
+    equilibrium: np.ndarray   #: the static equilibrium it should settle to (m)
     stable: bool
     message: str
-    dt_limit: float
-    params: dict
+    dt_limit: float           #: 2 / ω_max of the strand at rest (s)
+    params: dict              #: the arguments, the step times "t" and "t_shown"
+    last_finite: np.ndarray | None = None   #: last finite state of a blown-up run
+    last_step: int = 0        #: index of the last finite step
+    growth: np.ndarray | None = None        #: blown up: max |x - x0| at every step (m)
 
 
 def run_held_strand(k_bend: float = 2000.0, damping: float = 2e-3, dt: float = 1e-4,
-                    zigzag: float = 0.3, t_end: float = 0.5, n_frames: int = 6) -> HeldStrandRun:
+                    zigzag: float = 0.3, t_end: float = 0.5, n_frames: int = 6,
+                    max_steps: int | None = None) -> HeldStrandRun:
     """Release a held-out strand (clamped root) under gravity with symplectic Euler.
 
     Returns the strand at ``n_frames`` times, the tip height at every step, the static
-    equilibrium it should settle to, the verdict, and the step limit ``2 / ω_max``.
+    equilibrium it should settle to, the verdict, and the step limit ``2 / ω_max``. With
+    ``max_steps`` the run stops after that many steps (``t_end`` shortened to
+    ``max_steps · dt``, said in ``params["t_shown"]``): the widget's cap. Pure and cached
+    where it can be (the equilibrium and the limit depend on ``k_bend`` only).
     """
     x0, net = held_strand(k_bend, zigzag)
+    n = max(1, round(t_end / dt))
+    if max_steps is not None:
+        n = min(n, int(max_steps))
     equilibrium = _held_equilibrium(float(k_bend), float(zigzag))
-    system = strand_system(net, MASS, (0, 1), damping)
-    traj = integrate(system, stack_state(x0, np.zeros_like(x0)), (0.0, t_end), dt,
-                     method="symplectic_euler", blowup_bound=100.0)
-    x, _ = split_state(traj.y)
-    pick = np.linspace(0, len(traj.t) - 1, n_frames).round().astype(int)
-    return HeldStrandRun(traj.t[pick], x[pick], x[:, -1, 1], equilibrium,
-                         traj.stable, traj.message, 2.0 / max_frequency(net, x0, MASS, (0, 1)),
-                         {"k_bend": k_bend, "damping": damping, "dt": dt, "t": traj.t,
-                          "t_end": t_end})
+    x, message = symplectic_euler_run(x0, net, dt, n, pinned=(0, 1), damping=damping,
+                                      blowup_bound=100.0)
+    t = dt * np.arange(n + 1)
+    finite = np.flatnonzero(np.all(np.isfinite(x[:, :, 0]), axis=1))
+    last = int(finite[-1])
+    pick = np.linspace(0, n, n_frames).round().astype(int)
+    stable = message == "ok"
+    growth = None if stable else np.abs(x[: last + 1] - x0).max(axis=(1, 2))
+    return HeldStrandRun(t[pick], x[pick], x[:, -1, 1], equilibrium, stable, message,
+                         _held_limit(float(k_bend), float(zigzag)),
+                         {"k_bend": k_bend, "damping": damping, "dt": dt, "t": t,
+                          "t_end": t_end, "t_shown": float(t[-1]), "steps": n},
+                         None if stable else x[last], last, growth)
 
 
-def draw_held_strand(run: HeldStrandRun):
-    """Strand snapshots (side view) and tip height against time, with the equilibrium."""
-    import matplotlib.pyplot as plt
-
-    from ..plotting import EXACT_STYLE
-
-    p = run.params
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9, 3.4))
-    colors = plt.cm.viridis(np.linspace(0.0, 0.9, len(run.t)))
-    for tk, xk, col in zip(run.t, run.frames, colors, strict=True):
-        ax1.plot(xk[:, 0], xk[:, 1], "o-", ms=2, color=col, label=f"t = {tk:.2f} s")
-    ax1.plot(run.equilibrium[:, 0], run.equilibrium[:, 1], **EXACT_STYLE, label="equilibrium")
-    ax1.set(xlim=(-0.05, 0.35), ylim=(-0.33, 0.07), xlabel="x (m)", ylabel="y (m)",
-            aspect="equal")
-    ax1.legend(fontsize=7, loc="lower left")
-    ax2.plot(p["t"], run.tip_y, color="C0", label="tip, symplectic Euler")
-    ax2.axhline(run.equilibrium[-1, 1], **EXACT_STYLE, label="equilibrium")
-    ax2.set(xlim=(0.0, p["t_end"]), ylim=(-0.33, 0.07), xlabel="t (s)", ylabel="tip height y (m)")
-    ax2.legend(fontsize=8, loc="upper right")
-    verdict = "stable" if run.stable else "BLOWN UP: " + run.message
-    fig.suptitle(f"k_bend = {p['k_bend']:.3g} N/m, damping = {p['damping']:.3g} kg/s, "
-                 f"dt = {p['dt']:.3g} s (limit {run.dt_limit:.3g} s): {verdict}", fontsize=10)
-    fig.tight_layout()
-    return fig
+# --- twist: planar rest shapes against a helix --------------------------------------------
 
 
-def held_strand_explorer(k_bend: float = 2000.0, damping: float = 2e-3, dt: float = 1e-4):
-    """An :class:`~course_lib.widgets.ExplorerView` over :func:`run_held_strand`."""
-    import ipywidgets as w
-
-    from ..widgets import ExplorerView, log_slider
-
-    controls = {
-        "k_bend": log_slider("k_bend (N/m)", k_bend, 1.0, 1e4),
-        "damping": w.FloatSlider(value=damping, min=0.0, max=1e-2, step=5e-4,
-                                 description="damping (kg/s)", readout_format=".1e",
-                                 continuous_update=False, style={"description_width": "initial"}),
-        "dt": log_slider("dt (s)", dt, 2e-5, 1e-3),
+#: Rest shapes of the twist experiments: three planar ones and a helix (16 particles, 30 cm).
+def twist_shapes() -> dict[str, np.ndarray]:
+    """The strands of the twist experiments, each laid out along +x from the origin."""
+    return {
+        "straight": hair_chain(**STRAND)[0],
+        "planar curl": hair_chain(**STRAND, curl=0.3)[0],
+        "zigzag": hair_chain(**STRAND, zigzag=0.3)[0],
+        "helix": helix(STRAND["n"], STRAND["length"], radius=0.01, turn=np.pi / 3,
+                       axis=(1.0, 0.0, 0.0)),
     }
-    return ExplorerView(run_held_strand, draw_held_strand, controls)
 
 
-def animate(frames, network: SpringNetwork, *, head=None, size: float = 4.0,
-            xlim=(-0.35, 0.35), ylim=(-0.45, 0.42), fps: float = FPS, title: str = ""):
-    """A ``FuncAnimation`` of strands seen from the front (x-y), one line per strand
-    (springs of kind ``"edge"``), with an optional head ``(center, radius)``."""
-    import matplotlib.pyplot as plt
-    from matplotlib.animation import FuncAnimation
+def twist_energy(x0, angles, k_bend: float = 2000.0, k_twist: float = 500.0, cut: int = 2):
+    """Elastic energy (J) of a strand twisted by each of ``angles`` (rad) beyond particle
+    ``cut`` (:func:`~course_lib.strands.twist`), with edge, bending and torsion springs."""
+    net = strand_network(x0, STRAND["k_edge"], k_bend, k_twist)
+    return np.array([net.energy(twist(x0, a, cut)) for a in np.atleast_1d(angles)])
 
-    edges = network.select("edge")
-    fig, ax = plt.subplots(figsize=(size, size))
-    if head is not None:
-        ax.add_patch(plt.Circle(head[0][:2], head[1], color="0.85", zorder=0))
-    # NaN between consecutive edges of different strands breaks the line per strand.
-    seg = np.stack((edges.i, edges.j), axis=1)
 
-    def coords(x):
-        pts = np.concatenate((x[seg], np.full((seg.shape[0], 1, 3), np.nan)), axis=1)
-        return pts.reshape(-1, 3)
+def twist_release(x0, angle: float = 0.3, k_bend: float = 2000.0, k_twist: float = 500.0,
+                  damping: float = 1e-3, dt: float = 1e-4, t_end: float = 1.5, cut: int = 2):
+    """Twist a strand by ``angle`` beyond particle ``cut`` (root clamped: particles
+    ``0 ... cut`` pinned), release it without gravity, and return ``(t, twist angle of the
+    tip)`` at every step, with the verdict message."""
+    net = strand_network(x0, STRAND["k_edge"], k_bend, k_twist)
+    n = round(t_end / dt)
+    x, message = symplectic_euler_run(twist(x0, angle, cut), net, dt, n,
+                                      pinned=tuple(range(cut + 1)), damping=damping,
+                                      gravity=None)
+    return dt * np.arange(n + 1), twist_angle(x, x0, cut), message
 
-    p0 = coords(frames[0])
-    (line,) = ax.plot(p0[:, 0], p0[:, 1], "-", color="saddlebrown", lw=1.5)
-    stamp = ax.text(0.97, 0.03, "", transform=ax.transAxes, fontsize=9, ha="right")
-    ax.set(xlim=xlim, ylim=ylim, aspect="equal", xlabel="x (m)", ylabel="y (m)", title=title)
-    fig.tight_layout()
 
-    def update(k):
-        p = coords(frames[k])
-        line.set_data(p[:, 0], p[:, 1])
-        stamp.set_text(f"t = {k / fps:.2f} s")
-        return line, stamp
+def __getattr__(name: str):
+    """The drawings and the widget, from :mod:`course_lib.lessons.nb08_hair_view`."""
+    if name in {"draw_held_strand", "held_strand_explorer", "animate", "HeldStrandPlot",
+                "draw_hairstyle"}:
+        from . import nb08_hair_view
 
-    return FuncAnimation(fig, update, frames=len(frames), interval=1000.0 / fps, blit=True)
+        return getattr(nb08_hair_view, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
