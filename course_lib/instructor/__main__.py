@@ -25,6 +25,8 @@ def _grade_parser(sub) -> None:
     p.add_argument("--cell-timeout", type=float, default=30.0, help="seconds per code cell")
     p.add_argument("--exercise-timeout", type=float, default=20.0, help="seconds per exercise check")
     p.add_argument("--memory", type=int, default=2048, help="address-space limit per notebook (MB)")
+    p.add_argument("--student", nargs="+", action="extend", default=None,
+                   help="grade only these students (folder names), e.g. to regrade")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
@@ -88,7 +90,7 @@ def _grade(args) -> int:
     try:
         rows = grade_class(args.paths, out, solutions=args.solutions, assignments=args.assignment,
                            limits=limits, jobs=args.jobs, feedback_dir=feedback, report=report,
-                           progress=not args.no_progress)
+                           progress=not args.no_progress, only=args.student)
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

@@ -87,8 +87,11 @@ def student_markdown(student: str, rows: list[Row]) -> str:
         lines += [f"| `{r.exercise}` | {ICONS.get(r.status, '')} {r.status} | {r.points} / {r.possible} |"
                   for r in rs]
         lines.append("")
-        for r in rs:
-            lines += _exercise_section(r)
+        if len({(r.status, r.message) for r in rs}) == 1 and not rs[0].details.get("failed_cases"):
+            lines += [f"{ICONS.get(rs[0].status, '')} {rs[0].message}", ""]  # one verdict for all
+        else:
+            for r in rs:
+                lines += _exercise_section(r)
         notes = _notes(rs)
         if notes:
             lines += ["### Notes on running your notebook", ""] + [f"- {n}" for n in notes] + [""]

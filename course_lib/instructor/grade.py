@@ -20,6 +20,7 @@ import os
 import re
 import sys
 import traceback
+import warnings
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
@@ -159,13 +160,20 @@ def _assignments(roster: list[Student], kit: dict[str, Assignment],
 def grade_class(paths: list[Path], out_csv: Path, *, solutions: Path | None = None,
                 assignments: list[str] | None = None, limits: Limits | None = None,
                 jobs: int | None = None, feedback_dir: Path | None = None,
-                report: Path | None = None, progress: bool = True) -> list[Row]:
+                report: Path | None = None, progress: bool = True,
+                only: list[str] | None = None) -> list[Row]:
     """Grade every student under ``paths``; write the CSV, feedback files and class report.
 
-    Returns the rows (one per student, assignment and exercise), sorted.
+    ``only`` restricts the run to these students (to regrade a few). Returns the rows
+    (one per student, assignment and exercise), sorted.
     """
     kit = load_kit(solutions or default_solutions())
     roster = students([Path(p) for p in paths])
+    if only:
+        missing = sorted(set(only) - {s.name for s in roster})
+        if missing:
+            raise ValueError(f"student: {missing} not found; valid: {[s.name for s in roster][:20]}")
+        roster = [s for s in roster if s.name in only]
     expected = _assignments(roster, kit, assignments)
     tasks = [Task(s.name, a, (c := choose(s, a, kit)).path, c.note) for s in roster for a in expected]
     limits = limits or Limits()
@@ -173,6 +181,9 @@ def grade_class(paths: list[Path], out_csv: Path, *, solutions: Path | None = No
     out_csv.parent.mkdir(parents=True, exist_ok=True)
     rows: list[Row] = []
     runtime = Runtime()
+    if not runtime.landlock:
+        warnings.warn("this kernel has no Landlock: student code runs with the resource limits but can "
+                      "read and write any file the grader's user can (see docs/INSTRUCTORS.md)", stacklevel=2)
     bar = None
     if progress:
         from tqdm import tqdm
