@@ -91,7 +91,8 @@ def machine() -> str:
     numba = f"numba {NUMBA}" if NUMBA else "numba not installed (column skipped)"
     return (f"{cpu}, {os.cpu_count()} cores; Python {platform.python_version()}, "
             f"NumPy {numpy.__version__}, SciPy {scipy.__version__}, {numba}; "
-            f"BLAS threads {os.environ.get('OPENBLAS_NUM_THREADS')}")
+            f"BLAS threads {os.environ.get('OPENBLAS_NUM_THREADS')}. Computations: CPU time "
+            f"of the benchmark thread; widgets and notebooks: wall time")
 
 
 def table(rows) -> str:

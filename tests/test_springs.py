@@ -355,3 +355,13 @@ def test_forces_out_argument_and_work_arrays_are_not_shared():
     F2 = net.forces(2 * x0, v)
     assert F2 is not out and not np.allclose(F1, F2)
     assert np.array_equal(out, net.forces(x, v))          # a later call did not touch it
+
+
+def test_network_arrays_are_read_only_and_with_stiffness_names_unknown_kinds():
+    _, net = S.hair_chain(5, k_edge=1.0, k_bend=2.0)
+    with pytest.raises(ValueError, match="read-only"):
+        net.k[0] = 5.0
+    stiffer = net.with_stiffness(edge=3.0)
+    assert np.all(stiffer.k[stiffer.kind == "edge"] == 3.0) and np.all(net.k[net.kind == "edge"] == 1.0)
+    with pytest.raises(ValueError, match="twist"):
+        net.with_stiffness(twist=1.0)

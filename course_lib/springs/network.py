@@ -72,7 +72,6 @@ class _Work:
         self.d = np.empty((dim, s))                # x_lo - x_hi in every slot
         self.rel = np.empty((dim, s))              # v_lo - v_hi
         self.f = np.empty((dim, s))
-        self.ones = np.ones(dim)
         self.length = np.empty(s)
         self.inv = np.empty(s)                     # 1/ℓ, or 0 where the ends coincide
         self.coef = np.empty(s)                    # a: force on the lo end is -a d
@@ -102,8 +101,10 @@ class SpringNetwork:
     Notes
     -----
     ``rest``, ``k`` and ``c`` may be given as scalars (one value for every spring). The
-    network keeps work arrays for :meth:`forces`, so one network should not be used from
-    two threads at once.
+    arrays are read-only: the network lays its springs out once for fast force evaluation,
+    so change springs by building another network (:meth:`with_stiffness`,
+    :meth:`select`). It keeps work arrays for :meth:`forces`, so one network should not be
+    used from two threads at once.
     """
 
     i: np.ndarray
@@ -148,6 +149,8 @@ class SpringNetwork:
         self.slot_rest, self.slot_k, self.slot_c = (
             self.layout.to_slots(a) for a in (self.rest, self.k, self.c))
         self._work = {}
+        for arr in (self.i, self.j, self.rest, self.k, self.c, self.kind):
+            arr.setflags(write=False)
 
     @property
     def n_springs(self) -> int:
