@@ -146,6 +146,9 @@ def _assignments(roster: list[Student], kit: dict[str, Assignment],
                  names: list[str] | None) -> list[Assignment]:
     if names:
         unknown = [n for n in names if n not in kit]
+        broken = {n: why for n, why in getattr(kit, "skipped", {}).items() if n in unknown}
+        if broken:
+            raise ValueError(f"assignment: the kit's {sorted(broken)} cannot be loaded: {broken}")
         if unknown:
             raise ValueError(f"assignment: unknown {unknown}; valid choices: {sorted(kit)}")
         return [kit[n] for n in names]

@@ -97,14 +97,23 @@ def load_assignment(path: Path) -> Assignment | None:
     return Assignment(path.stem, path, module, exercises, ids)
 
 
-def load_kit(solutions: Path) -> dict[str, Assignment]:
+class Kit(dict):
+    """Assignments by notebook name; ``skipped`` says why a notebook could not be loaded."""
+
+    def __init__(self):
+        super().__init__()
+        self.skipped: dict[str, str] = {}
+
+
+def load_kit(solutions: Path) -> Kit:
     """Every assignment of a kit's ``solutions/`` folder, by notebook name."""
-    kit = {}
+    kit = Kit()
     for path in sorted(Path(solutions).glob("*.ipynb")):
         try:
             assignment = load_assignment(path)
         except Exception as exc:  # one broken notebook or check module must not stop the others
-            warnings.warn(f"{path.name} skipped: {type(exc).__name__}: {exc}", stacklevel=2)
+            kit.skipped[path.stem] = f"{type(exc).__name__}: {exc}"
+            warnings.warn(f"{path.name} skipped: {kit.skipped[path.stem]}", stacklevel=2)
             continue
         if assignment is not None:
             kit[assignment.name] = assignment
