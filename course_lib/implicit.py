@@ -11,6 +11,8 @@ function ``jac(t, y)``; dense or ``scipy.sparse``) or, without one, a forward
 finite-difference Jacobian. Each step factorizes ``M`` once (LU, or ``splu`` for a sparse
 ``J``) and reuses it for every Newton iteration; a constant ``jac`` is factorized once per
 step size for the whole run. The Jacobian is re-evaluated only when the iteration slows.
+A sparse ``J`` of a Newtonian state, ``[[0, I], [A, B]]`` for ``y = (x, v)``, is solved
+through the half-size velocity matrix ``I - h B - h² A`` (Baraff & Witkin, 1998).
 
 Everything is relative to the size of the state, so the solve does not depend on units:
 the iteration stops when the update is below ``rtol`` times ``max(|Y|, |c|)`` (max norm),
@@ -89,6 +91,34 @@ def finite_difference_jacobian(f: Callable, t: float, y: np.ndarray, fy: np.ndar
     return jac
 
 
+def _newtonian_blocks(J):
+    """``(A, B)`` if the sparse ``J`` is ``[[0, I], [A, B]]`` (a Newtonian ``f = (v, a)``)."""
+    n = J.shape[0]
+    if n % 2:
+        return None
+    half = n // 2
+    top = sp.csr_matrix(J[:half])
+    top.sum_duplicates()
+    top.eliminate_zeros()
+    if (top.nnz != half or not np.array_equal(top.indices, np.arange(half, n))
+            or not np.all(top.data == 1)):
+        return None
+    bottom = sp.csr_matrix(J[half:])
+    return bottom[:, :half].tocsc(), bottom[:, half:].tocsc()
+
+
+def _sparse_lu(M, a_dt: float, t1: float) -> Callable[[np.ndarray], np.ndarray]:
+    M = sp.csc_matrix(M)
+    if not np.all(np.isfinite(M.data)):
+        raise ConvergenceError(f"implicit step at t = {t1:g}: jac has non-finite entries",
+                               nonfinite=True)
+    try:
+        return spla.splu(M).solve
+    except RuntimeError:  # "Factor is exactly singular"
+        raise ConvergenceError(f"implicit step at t = {t1:g}: the Newton matrix "
+                               f"I - {a_dt:g} J is singular") from None
+
+
 class NewtonSolver:
     """Solves ``Y = c + a_dt f(t1, Y)`` by Newton's method, reusing its Jacobian.
 
@@ -136,15 +166,21 @@ class NewtonSolver:
         """A function ``r -> (I - a_dt J)^{-1} r``, from one LU factorization of the matrix."""
         n = J.shape[0]
         if sp.issparse(J):
-            M = (sp.identity(n, dtype=J.dtype, format="csc") - a_dt * J).tocsc()
-            if not np.all(np.isfinite(M.data)):
-                raise ConvergenceError(f"implicit step at t = {t1:g}: jac has non-finite "
-                                       "entries", nonfinite=True)
-            try:
-                return spla.splu(M).solve
-            except RuntimeError:  # "Factor is exactly singular"
-                raise ConvergenceError(f"implicit step at t = {t1:g}: the Newton matrix "
-                                       f"I - {a_dt:g} J is singular") from None
+            blocks = _newtonian_blocks(J)
+            if blocks is not None:
+                # J = [[0, I], [A, B]] (y = (x, v)): eliminate dx = rx + h dv and factorize
+                # the half-size velocity matrix I - h B - h² A (Baraff & Witkin's system).
+                A, B = blocks
+                half = n // 2
+                solve_v = _sparse_lu(sp.identity(half, dtype=J.dtype, format="csc")
+                                     - a_dt * B - a_dt * a_dt * A, a_dt, t1)
+
+                def solve(r: np.ndarray) -> np.ndarray:
+                    dv = solve_v(r[half:] + a_dt * (A @ r[:half]))
+                    return np.concatenate((r[:half] + a_dt * dv, dv))
+
+                return solve
+            return _sparse_lu(sp.identity(n, dtype=J.dtype, format="csc") - a_dt * J, a_dt, t1)
         M = np.eye(n) - a_dt * J
         if not np.all(np.isfinite(M)):
             raise ConvergenceError(f"implicit step at t = {t1:g}: the Jacobian has non-finite "

@@ -196,3 +196,25 @@ def test_jacobian_is_evaluated_once_per_step_when_newton_converges_fast(method):
     assert traj.stable and count[0] == traj.n_steps
     dense = cl.integrate(f, [0.5, 0.0], (0.0, 1.0), 0.01, method)
     np.testing.assert_allclose(traj.y, dense.y, rtol=1e-12, atol=1e-14)
+
+
+@pytest.mark.parametrize("method", IMPLICIT)
+def test_newtonian_sparse_jac_is_solved_through_the_half_size_velocity_system(method,
+                                                                              monkeypatch):
+    n, c, dt = 300, 0.3, 0.05
+    L = laplacian(n, 1.0 / (n + 1)) * 1e-4                      # x'' = L x - c v
+    J = sp.bmat([[None, sp.identity(n)], [L, -c * sp.identity(n)]], format="csr")
+    f = lambda t, y: np.stack((y[1], L @ y[0] - c * y[1]))  # noqa: E731
+    sizes = []
+    real = implicit.spla.splu
+    monkeypatch.setattr(implicit.spla, "splu", lambda M: sizes.append(M.shape[0]) or real(M))
+    x = np.linspace(0, 1, n + 2)[1:-1]
+    y0 = np.stack((np.sin(np.pi * x), np.zeros(n)))
+    traj = cl.integrate(f, y0, (0.0, 20 * dt), dt, method, jac=J)
+    assert set(sizes) == {n}                                    # never the 2n system
+    a = 1.0 if method == "backward_euler" else 0.5
+    lhs = spla.splu((sp.identity(2 * n) - a * dt * J).tocsc())
+    y = y0.ravel()
+    for _ in range(20):
+        y = lhs.solve(y + (1 - a) * dt * (J @ y))
+    np.testing.assert_allclose(traj.y[-1].ravel(), y, rtol=1e-11, atol=1e-13)
