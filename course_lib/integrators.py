@@ -11,7 +11,8 @@ plus the float spacing of the times), all ``n`` steps are ``dt``; otherwise
 The run is checked, not the physics: ``f``'s first evaluations are checked for shape,
 type and (for the symplectic methods) ``dx/dt = v``; states are checked in blocks of steps
 for non-finite values (and a ``blowup_bound`` if given), so that the loop costs little more
-than calling ``f``. Imports: numpy, :mod:`course_lib.steppers`, :mod:`course_lib.implicit`.
+than calling ``f``. Imports: numpy and the core modules ``_validate``, ``steppers``,
+``implicit`` and ``timegrid``.
 """
 
 from __future__ import annotations
