@@ -35,6 +35,7 @@ import scipy.sparse.linalg as spla
 
 from . import _validate
 from .springs import SpringNetwork
+from .springs.network import sum_rows
 
 
 @dataclass
@@ -149,7 +150,7 @@ class BaraffWitkin:
         """``Dᵀ[β w + γ (w·d) d]`` with ``w = p_lo - p_hi``: the springs' part of ``A p``."""
         w = self.network.slot_differences(p, out=self._w)   # (dim, S)
         np.multiply(w, self._d, out=self._prod)
-        np.sum(self._prod, axis=0, out=self._along)   # w·d
+        sum_rows(self._prod, out=self._along)     # w·d
         self._along *= gamma
         w *= self._beta
         w += np.multiply(self._d, self._along, out=self._prod)

@@ -99,7 +99,10 @@ class SpringLayout:
             if work is None:
                 work = (np.empty(rows.shape), *(np.empty((rows.shape[0], self.lo.size)),) * 2)
             contiguous, at_lo, at_hi = work
-            np.copyto(contiguous, rows)                # np.take wants contiguous rows
+            if rows.flags.c_contiguous:
+                contiguous = rows
+            else:                                      # np.take wants contiguous rows
+                np.copyto(contiguous, rows)
             np.take(contiguous, self.lo, axis=1, out=at_lo, mode="clip")
             np.take(contiguous, self.hi, axis=1, out=at_hi, mode="clip")
             np.subtract(at_lo, at_hi, out=out[:, self.gathered_start:])

@@ -57,6 +57,18 @@ def _kind_array(kind, m: int) -> np.ndarray:
     return arr.astype(str)
 
 
+def sum_rows(a: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """``out = a[0] + a[1] + …``: the sum over the few long rows of ``a`` (faster than
+    ``np.sum(a, axis=0)``)."""
+    if len(a) == 1:
+        np.copyto(out, a[0])
+        return out
+    np.add(a[0], a[1], out=out)
+    for row in a[2:]:
+        out += row
+    return out
+
+
 class _Work:
     """Preallocated work arrays for one evaluation in ``dim`` dimensions.
 
@@ -67,8 +79,9 @@ class _Work:
 
     def __init__(self, layout: SpringLayout, dim: int):
         s, g = layout.n_slots, layout.lo.size
-        # For the gathered springs: contiguous rows of x (or v), and the two ends.
-        self.gather = (np.empty((dim, layout.n if g else 0)), np.empty((dim, g)), np.empty((dim, g)))
+        self.rows = np.empty((dim, layout.n))      # x (or v) transposed: one row per component
+        self.total = np.empty((dim, layout.n))     # per-particle sums, transposed
+        self.gather = (self.rows, np.empty((dim, g)), np.empty((dim, g)))   # the two ends
         self.d = np.empty((dim, s))                # x_lo - x_hi in every slot
         self.rel = np.empty((dim, s))              # v_lo - v_hi
         self.f = np.empty((dim, s))
@@ -149,6 +162,7 @@ class SpringNetwork:
         self.slot_rest, self.slot_k, self.slot_c = (
             self.layout.to_slots(a) for a in (self.rest, self.k, self.c))
         self._work = {}
+        self._damped = bool(self.c.any())
         for arr in (self.i, self.j, self.rest, self.k, self.c, self.kind):
             arr.setflags(write=False)
 
@@ -203,15 +217,18 @@ class SpringNetwork:
         w = self._workspace(p.shape[1])
         if out is None:
             out = np.empty((p.shape[1], self.layout.n_slots))
-        return self.layout.differences(p.T, out, w.gather)
+        np.copyto(w.rows, p.T)                     # (d, N): whole contiguous rows
+        return self.layout.differences(w.rows, out, w.gather)
 
     def slot_sums(self, f, same_sign: bool = False, out: np.ndarray | None = None) -> np.ndarray:
         """Per-particle sums ``(N, d)`` of per-slot vectors ``f`` of shape ``(d, S)``:
         ``+f`` at each ``lo`` end and ``-f`` at each ``hi`` end (``+f`` at both with
         ``same_sign=True``)."""
+        w = self._workspace(f.shape[0])
+        total = self.layout.accumulate(f, w.total, same_sign)    # (d, N), contiguous
         if out is None:
-            out = np.empty((self.n_particles, f.shape[0]))
-        self.layout.accumulate(f, out.T, same_sign)
+            return total.T.copy()
+        np.copyto(out, total.T)
         return out
 
     def slot_coefficients(self, x, v=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -223,21 +240,21 @@ class SpringNetwork:
         d = self.slot_differences(x, out=w.d)
         # ℓ = |d| and 1/ℓ; where ℓ = 0 the direction is undefined and we take 1/ℓ = 0.
         np.multiply(d, d, out=w.f)
-        np.sum(w.f, axis=0, out=w.length)           # sum over the components (no BLAS)
+        sum_rows(w.f, out=w.length)                # sum over the components
         np.sqrt(w.length, out=w.length)
         with np.errstate(divide="ignore"):
             np.divide(1.0, w.length, out=w.inv)
-        if not w.length.all():
+        if not w.length.min() > 0.0:
             w.inv[w.length == 0.0] = 0.0
         # a = k (ℓ - L) / ℓ
         np.subtract(w.length, self.slot_rest, out=w.coef)
         w.coef *= self.slot_k
         w.coef *= w.inv
-        if v is not None and self.c.any():
+        if v is not None and self._damped:
             # + c (v_lo - v_hi)·d / ℓ²: damping of the stretching rate only
             rel = self.slot_differences(self._check("v", v), out=w.rel)
             np.multiply(rel, d, out=w.f)
-            np.sum(w.f, axis=0, out=w.rate)
+            sum_rows(w.f, out=w.rate)
             w.rate *= w.inv
             w.rate *= w.inv
             w.rate *= self.slot_c
