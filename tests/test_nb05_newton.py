@@ -115,8 +115,8 @@ def test_apple_energy_drift(runs):
 @pytest.fixture(scope="module")
 def osc_runs():
     f = cl.systems.oscillator(1.0)
-    return {m: cl.integrate(f, [1.0, 0.0], (0.0, 40 * np.pi), 0.1, m)
-            for m in ("forward_euler", "symplectic_euler", "velocity_verlet")}
+    return {m: cl.integrate(f, [1.0, 0.0], (0.0, 1257 * 0.1), 0.1, m)
+            for m in ("forward_euler", "symplectic_euler", "velocity_verlet", "rk4")}
 
 
 def test_forward_euler_energy_factor(osc_runs):
@@ -158,6 +158,95 @@ def test_energy_bands(osc_runs):
     assert 0.5 - 1e-6 <= E_vv.max() <= 0.5 + 1e-12
 
 
+def test_twenty_periods_is_a_whole_number_of_steps(osc_runs):
+    assert 1257 * 0.1 == pytest.approx(40 * np.pi, abs=0.04)         # "20 periods (125.66 s)"
+    assert np.allclose(np.diff(osc_runs["symplectic_euler"].t), 0.1, rtol=1e-9)
+
+
+def test_phase_error(osc_runs):
+    w_tilde = nb05.discrete_frequency(1.0, 0.1)
+    assert np.cos(w_tilde * 0.1) == pytest.approx(1 - 0.01 / 2, rel=1e-15)
+    assert f"{w_tilde - 1:.4e}" == "4.1714e-04" and f"{0.01 / 24:.4e}" == "4.1667e-04"
+    t_end = 1257 * 0.1
+    assert round((w_tilde - 1) * t_end, 4) == 0.0524                     # theory after 20 periods
+    assert np.degrees((w_tilde - 1) * t_end) == pytest.approx(3.0, abs=0.05)   # "3°"
+    # the same trace for both symplectic methods: the same frequency
+    for m in ("symplectic_euler", "velocity_verlet"):
+        A = np.column_stack([cl.step(m, cl.systems.oscillator(1.0), 0.0, e, 0.1) for e in np.eye(2)])
+        assert np.trace(A) == pytest.approx(2 - 0.01, rel=1e-15)
+        assert np.linalg.det(A) == pytest.approx(1.0, rel=1e-15)
+    printed = {m: round(nb05.phase_error(tr.t, tr.y)[-1], 4) for m, tr in osc_runs.items()}
+    assert printed == {"forward_euler": -0.4165, "symplectic_euler": 0.0529,
+                       "velocity_verlet": 0.0523, "rk4": -0.0001}
+    # forward Euler turns by arctan(w dt) per step
+    assert 1257 * (np.arctan(0.1) - 0.1) == pytest.approx(-0.4165, abs=5e-4)
+    # Verlet's phase follows (w~ - w) t; symplectic Euler's wobbles by up to about w dt / 2
+    vv = osc_runs["velocity_verlet"]
+    assert np.abs(nb05.phase_error(vv.t, vv.y) - (w_tilde - 1) * vv.t).max() < 2e-3
+    se = osc_runs["symplectic_euler"]
+    wobble = nb05.phase_error(se.t, se.y) - (w_tilde - 1) * se.t
+    assert wobble.min() > -1e-3 and wobble.max() == pytest.approx(0.05, abs=5e-3)
+
+
+def test_stormer_form_is_verlet():
+    accel = lambda th: -9.81 * np.sin(th)   # noqa: E731
+    x = nb05.stormer_verlet(accel, 1.0, 0.0, 0.01, 200)
+    vv = cl.integrate(nb05.pendulum(9.81), [1.0, 0.0], (0.0, 2.0), 0.01, "velocity_verlet")
+    assert np.abs(x - vv.y[:, 0]).max() < 1e-13
+    assert np.abs((x[2:] - x[:-2]) / 0.02 - vv.y[1:-1, 1]).max() < 1e-12
+    orders = {}
+    for start in ("taylor", "euler"):
+        orders[start], _ = nb05.three_grid_order(
+            lambda h, start=start: nb05.stormer_verlet(accel, 1.0, 0.0, h, round(2.0 / h), start)[-1],
+            0.0025)
+    assert f"{orders['taylor']:.3f}" == "2.000" and f"{orders['euler']:.3f}" == "0.998"
+
+
+def test_local_and_global_orders():
+    dts = 0.01 / 2.0 ** np.arange(5)
+    printed = {"forward_euler": ("2.000", "1.027"), "symplectic_euler": ("2.000", "1.003"),
+               "velocity_verlet": ("3.000", "2.000")}
+    f = nb05.pendulum()
+    three = {"forward_euler": ("1.086", "1.022"), "symplectic_euler": ("1.012", "1.003"),
+             "velocity_verlet": ("2.000", "2.000")}
+    for m, (loc_s, glob_s) in printed.items():
+        local, glob = nb05.step_errors(m, dts)
+        s_loc = np.polyfit(np.log(dts), np.log(local), 1)[0]
+        s_glob = np.polyfit(np.log(dts), np.log(glob), 1)[0]
+        assert (f"{s_loc:.3f}", f"{s_glob:.3f}") == (loc_s, glob_s)
+        assert s_loc == pytest.approx(cl.ORDER[m] + 1, abs=0.01)
+        assert s_glob == pytest.approx(cl.ORDER[m], abs=0.03)
+        end = lambda h, m=m: cl.integrate(f, [1.0, 0.0], (0.0, 2.0), h, m).y[-1]   # noqa: E731
+        got = tuple(f"{nb05.three_grid_order(end, h)[0]:.3f}" for h in (0.01, 0.0025))
+        assert got == three[m]
+    # the three-grid error estimate is the finest run's true error (Verlet, asymptotic)
+    end = lambda h: cl.integrate(f, [1.0, 0.0], (0.0, 2.0), h, "velocity_verlet").y[-1]   # noqa: E731
+    _, err = nb05.three_grid_order(end, 0.01)
+    true = np.linalg.norm(end(0.0025) - nb05.reference_run(f, np.array([1.0, 0.0]), 2.0))
+    assert err == pytest.approx(true, rel=2e-3)
+
+
+def test_implicit_last_half_kick_keeps_second_order():
+    """Explicit Verlet with drag is first order in v; solving the last half kick is second."""
+    b, m, g = 0.5, 1.0, 9.81
+
+    def run(h, implicit):
+        x, v = 0.0, 0.0
+        for _ in range(round(4.0 / h)):
+            v_half = v + 0.5 * h * (-g - b / m * v)
+            x = x + h * v_half
+            if implicit:   # v = v_half + h/2 (-g - b v / m), solved for v
+                v = (v_half - 0.5 * h * g) / (1 + 0.5 * h * b / m)
+            else:
+                v = v_half + 0.5 * h * (-g - b / m * v_half)
+        return np.array([x, v])
+
+    exact_v = -m * g / b * (1 - np.exp(-b * 4.0 / m))
+    errs = {imp: [abs(run(h, imp)[1] - exact_v) for h in (0.02, 0.01)] for imp in (False, True)}
+    assert errs[False][0] / errs[False][1] == pytest.approx(2.0, rel=0.02)
+    assert errs[True][0] / errs[True][1] == pytest.approx(4.0, rel=0.02)
+
+
 # --- the checks --------------------------------------------------------------------------
 
 
@@ -169,19 +258,63 @@ def _stub(*args):
     raise NotImplementedError()
 
 
+def _se(f, t, y, dt):
+    v = y[1] + dt * f(t, y)[1]
+    return np.stack((y[0] + dt * v, v))
+
+
+def _vv(f, t, y, dt, old_v=False, t_shift=False):
+    x, v = y[0], y[1]
+    v_half = v + 0.5 * dt * f(t, y)[1]
+    x_new = x + dt * v_half
+    a_new = f(t if t_shift else t + dt, np.stack((x_new, v if old_v else v_half)))[1]
+    return np.stack((x_new, v_half + 0.5 * dt * a_new))
+
+
+def _main(func):
+    func.__module__ = "__main__"            # as if written in the notebook
+    return func
+
+
 def test_check_symplectic_euler(capsys):
-    check.symplectic_euler_step(lambda f, t, y, dt: cl.symplectic_euler(f, t, y, dt))
+    check.symplectic_euler_step(_se)
     assert _status("symplectic_euler_step") == "correct"
+    check.symplectic_euler_step(lambda f, t, y, dt: _se(f, t, y, dt).astype(np.float32))
+    assert _status("symplectic_euler_step") == "correct"
+    capsys.readouterr()
     check.symplectic_euler_step(lambda f, t, y, dt: cl.forward_euler(f, t, y, dt))
     assert _status("symplectic_euler_step") == "incorrect"
     assert "this is forward Euler" in capsys.readouterr().out
+
+    def late(f, t, y, dt):
+        v = y[1] + dt * f(t + dt, y)[1]
+        return np.stack((y[0] + dt * v, v))
+
+    check.symplectic_euler_step(late)
+    assert "not f(t + dt, y)" in capsys.readouterr().out
+    check.symplectic_euler_step(lambda f, t, y, dt: np.full_like(y, np.nan))
+    out = capsys.readouterr().out
+    assert "returned NaN" in out and "nan" not in out.replace("NaN", "")
+
+    def inplace(f, t, y, dt):
+        y[1] += dt * f(t, y)[1]
+        y[0] += dt * y[1]
+        return y
+
+    check.symplectic_euler_step(inplace)
+    assert "changed its input" in capsys.readouterr().out
+    check.symplectic_euler_step(_main(lambda f, t, y, dt: cl.symplectic_euler(f, t, y, dt)))
+    assert "uses the reference" in capsys.readouterr().out
     check.symplectic_euler_step(_stub)
     assert _status("symplectic_euler_step") == "pending"
 
 
 def test_check_velocity_verlet(capsys):
-    check.velocity_verlet_step(lambda f, t, y, dt: cl.velocity_verlet(f, t, y, dt))
+    check.velocity_verlet_step(_vv)
     assert _status("velocity_verlet_step") == "correct"
+    check.velocity_verlet_step(lambda f, t, y, dt: _vv(f, t, y, dt).astype(np.float32))
+    assert _status("velocity_verlet_step") == "correct"
+    capsys.readouterr()
 
     def stale(f, t, y, dt):
         a = f(t, y)[1]
@@ -189,26 +322,93 @@ def test_check_velocity_verlet(capsys):
 
     check.velocity_verlet_step(stale)
     assert _status("velocity_verlet_step") == "incorrect"
-    assert "acceleration at the NEW position" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "acceleration at the NEW position" in out and "OLD velocity" not in out
+    check.velocity_verlet_step(lambda f, t, y, dt: _vv(f, t, y, dt, old_v=True))
+    out = capsys.readouterr().out
+    assert "you passed the OLD velocity v" in out and out.count("✗") == 2   # the oscillator passes
+    check.velocity_verlet_step(lambda f, t, y, dt: _vv(f, t, y, dt, t_shift=True))
+    out = capsys.readouterr().out
+    assert "END of the step: f(t + dt, ...)" in out and out.count("✗") == 1  # only the driven case
+    check.velocity_verlet_step(_main(lambda f, t, y, dt: cl.velocity_verlet(f, t, y, dt)))
+    assert "uses the reference" in capsys.readouterr().out
     check.velocity_verlet_step(_stub)
     assert _status("velocity_verlet_step") == "pending"
 
 
+def _impact(t, h):
+    k = np.flatnonzero(h < 0)[0]
+    return t[k - 1] + (t[k] - t[k - 1]) * h[k - 1] / (h[k - 1] - h[k])
+
+
 def test_check_impact_time(capsys):
-    check.impact_time(lambda t, h: events.first_crossing(t, h))
+    check.impact_time(_impact)
     assert _status("impact_time") == "correct"
+    check.impact_time(lambda t, h: np.float32(_impact(t, h)))
+    assert _status("impact_time") == "correct"
+    capsys.readouterr()
     check.impact_time(lambda t, h: t[np.flatnonzero(h < 0)[0]])
     assert _status("impact_time") == "incorrect"
     assert "first step below ground" in capsys.readouterr().out
+
+    def wrong_numerator(t, h):
+        k = np.flatnonzero(h < 0)[0]
+        return t[k - 1] + (t[k] - t[k - 1]) * h[k] / (h[k - 1] - h[k])
+
+    check.impact_time(wrong_numerator)
+    assert "you used h[k] in the numerator" in capsys.readouterr().out
+    check.impact_time(lambda t, h: int(np.flatnonzero(h < 0)[0]))
+    assert "you returned an index" in capsys.readouterr().out
+    check.impact_time(_main(lambda t, h: cl.events.first_crossing(t, h)))
+    assert "uses the reference" in capsys.readouterr().out
     check.impact_time(_stub)
     assert _status("impact_time") == "pending"
 
 
-def test_check_euler_apple_height(capsys):
-    check.euler_apple_height(lambda n, dt, h0, g: h0 - g * dt**2 * n * (n - 1) / 2)
-    assert _status("euler_apple_height") == "correct"
-    check.euler_apple_height(lambda n, dt, h0, g: h0 - g * dt**2 * n * (n + 1) / 2)
-    assert _status("euler_apple_height") == "incorrect"
-    assert "symplectic Euler's height" in capsys.readouterr().out
-    check.euler_apple_height(_stub)
-    assert _status("euler_apple_height") == "pending"
+def _order(run, dt):
+    a, b, c = (np.asarray(run(h), dtype=float) for h in (dt, dt / 2, dt / 4))
+    d1, d2 = np.linalg.norm(a - b), np.linalg.norm(b - c)
+    p = np.log2(d1 / d2)
+    return p, d2 / (2**p - 1)
+
+
+def test_check_observed_order(capsys):
+    check.observed_order(_order)
+    assert _status("observed_order") == "correct"
+    check.observed_order(lambda run, dt: tuple(np.float32(v) for v in _order(run, dt)))
+    assert _status("observed_order") == "correct"
+    capsys.readouterr()
+
+    def natural_log(run, dt):
+        p, err = _order(run, dt)
+        return p * np.log(2), err
+
+    def no_division(run, dt):
+        p, err = _order(run, dt)
+        return p, err * (2**p - 1)
+
+    def middle_error(run, dt):
+        p, err = _order(run, dt)
+        return p, err * 2**p
+
+    def inverted(run, dt):
+        p, err = _order(run, dt)
+        return -p, err
+
+    def coarser_grids(run, dt):
+        return _order(lambda h: run(4 * h), dt)
+
+    for answer, hint in [(natural_log, "base-2 logarithm"), (no_division, "divide by 2^p - 1"),
+                         (middle_error, "error of the MIDDLE run"), (inverted, "upside down"),
+                         (coarser_grids, "run the three grids dt, dt/2 and dt/4")]:
+        check.observed_order(answer)
+        assert _status("observed_order") == "incorrect"
+        assert hint in capsys.readouterr().out, hint
+    check.observed_order(lambda run, dt: 2.0)
+    assert "never called run" in capsys.readouterr().out
+    check.observed_order(lambda run, dt: _order(run, dt)[0])
+    assert "return a pair (p, error)" in capsys.readouterr().out
+    check.observed_order(_main(lambda run, dt: nb05.three_grid_order(run, dt)))
+    assert "uses the reference" in capsys.readouterr().out
+    check.observed_order(_stub)
+    assert _status("observed_order") == "pending"
