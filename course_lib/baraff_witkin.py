@@ -67,7 +67,8 @@ class BaraffWitkin:
     mass : float or array_like, shape (N,)
         Particle masses (kg), > 0.
     pinned : sequence of int, optional
-        Particles held fixed (their velocity change is zero).
+        Particles held fixed: their velocity change is zero, so a pinned particle that
+        starts at rest stays exactly where it is.
     gravity : array_like, shape (d,), optional
         Uniform acceleration ``g`` (m/s²): a force ``m g`` on every particle.
     external : callable, optional
@@ -160,6 +161,9 @@ class BaraffWitkin:
         """``(N, dim)`` copies of the masses and of the gravity force (contiguous, so that
         no operation broadcasts along rows of length ``dim``)."""
         if getattr(self, "_dim", None) != dim:
+            if self.gravity is not None and self.gravity.shape != (dim,):
+                raise ValueError(f"gravity must have shape ({dim},) like the positions' last "
+                                 f"axis, got {self.gravity.shape}")
             self._dim = dim
             self._mass = np.repeat(self.mass, dim).reshape(-1, dim)
             g = np.zeros(dim) if self.gravity is None else self.gravity

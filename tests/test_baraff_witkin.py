@@ -194,3 +194,16 @@ def test_functional_form_and_bad_arguments():
         BaraffWitkin(net, 1.0).step(x0[:4], np.zeros_like(x0), 0.1)
     with pytest.raises(TypeError, match="external"):
         BaraffWitkin(net, 1.0, external=3.0)
+    with pytest.raises(ValueError, match="gravity"):
+        BaraffWitkin(net, 1.0, gravity=[0.0, -9.81]).step(x0, np.zeros_like(x0), 0.1)
+
+
+def test_external_force_is_added_like_gravity():
+    x0, net = S.cloth_grid(4, 4, 0.1, c=0.1)
+    v0 = np.random.default_rng(3).normal(size=x0.shape)
+    with_g = BaraffWitkin(net, 2e-3, pinned=[0], gravity=G, rtol=1e-12)
+    with_ext = BaraffWitkin(net, 2e-3, pinned=[0], rtol=1e-12,
+                            external=lambda t, x, v: np.full_like(x, 2e-3) * G)
+    a, b = with_g.step(x0, v0, 0.02), with_ext.step(x0, v0, 0.02)
+    assert np.allclose(a[0], b[0], rtol=1e-13, atol=1e-15)
+    assert np.allclose(a[1], b[1], rtol=1e-12, atol=1e-13)
