@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from notebook_helpers import ROOT
 
-from course_lib.check import evaluate
+from course_lib.check import evaluate, exercise
 from course_lib.instructor import codec, grade, landlock
 from course_lib.instructor.kit import identify, load_kit
 from course_lib.instructor.notebooks import make_student_notebook
@@ -280,13 +280,43 @@ def test_replay_refuses_records_made_with_other_inputs():
 
     assert judge(check, fresh(), 10)[0] == "correct"
     record = fresh()
-    record["calls"][1]["fp"] = "0" * 24
+    record["calls"][1]["sig"] = {"exact": "float:0.0"}
     assert judge(check, record, 10)[0] == "tampered"
     record = fresh()
     record["calls"] = record["calls"][:2]
     assert judge(check, record, 10)[0] == "tampered"
-    record["calls"][-1] = {"fp": record["calls"][-1]["fp"], "timeout": True}
+    record["calls"][-1] = {"sig": record["calls"][-1]["sig"], "timeout": True}
     assert judge(check, {**record, "timeout": True}, 10)[0] == "timeout"
+
+
+@exercise
+def three_grids(ck, func) -> None:
+    """A check that watches what the answer does with a function it is given."""
+    asked = []
+
+    def run(h):
+        asked.append(float(h))
+        return np.exp(-np.arange(3.0) * h)
+
+    got = func(run, 0.1)
+    ck.expect(sorted(asked) == [0.025, 0.05, 0.1], "runs dt, dt/2 and dt/4", f"ran {asked}")
+    ck.close(got, np.exp(-np.arange(3.0) * 0.025), "the finest run")
+
+
+def test_replay_repeats_calls_to_function_arguments():
+    def good(run, dt):
+        runs = [run(dt), run(dt / 2), run(dt / 4)]
+        return runs[-1]
+
+    def lazy(run, dt):
+        return run(dt / 4)
+
+    assert judge(three_grids, _record(three_grids, good), 10)[0] == "correct"
+    status, message, _ = judge(three_grids, _record(three_grids, lazy), 10)
+    assert status == "incorrect" and "ran [0.025]" in message
+    record = _record(three_grids, good)
+    record["calls"][0]["callbacks"][1]["sig"] = codec.summary(np.zeros(3))
+    assert judge(three_grids, record, 10)[0] == "tampered"
 
 
 # --- sandbox pieces and the gradebook ----------------------------------------------------

@@ -18,6 +18,7 @@ course_lib (from the private copy).
 """
 
 import builtins
+import functools
 import hashlib
 import hmac
 import importlib
@@ -154,21 +155,56 @@ def compare(before: dict, check_module: str) -> list[str]:
     return found[:20]
 
 
+MAX_CALLBACKS = 5000
+
+
 class Recorder:
-    """Stands in for the student's function in the worker's run of a check."""
+    """Stands in for the student's function in the worker's run of a check.
+
+    Function arguments (callbacks such as ``f(t, y)`` or a check's ``run(dt)``) reach the
+    student wrapped: each call is logged (arguments, a summary of the result), so the
+    grader can make the same calls on its own objects and reproduce their side effects.
+    """
 
     def __init__(self, fn, codec, np, max_bytes: int):
         self.fn, self.codec, self.np, self.max_bytes = fn, codec, np, max_bytes
         self.calls: list[dict] = []
 
+    def _spy(self, value, key: str, log: list):
+        if not isinstance(value, types.FunctionType):
+            return value
+        codec = self.codec
+
+        def spy(*args, **kwargs):
+            entry = {"arg": key}
+            if len(log) < MAX_CALLBACKS:
+                try:  # arguments the codec cannot carry (a function of the student's) are not replayed
+                    encoded = codec.encode([list(args), kwargs], 1 << 20)
+                    entry["args"] = None if codec.has_opaque(encoded) else encoded
+                except Exception:
+                    entry["args"] = None
+                log.append(entry)
+            try:
+                out = value(*args, **kwargs)
+            except BaseException as exc:
+                entry["raised"] = type(exc).__name__
+                raise
+            entry["sig"] = codec.summary(out)
+            return out
+
+        return functools.update_wrapper(spy, value)
+
     def __call__(self, *args, **kwargs):
         codec = self.codec
         items = list(enumerate(args)) + list(kwargs.items())
         before = {str(k): codec.fingerprint(v) for k, v in items}
-        call = {"fp": codec.fingerprint((args, kwargs))}
+        log: list = []
+        call = {"sig": codec.summary([list(args), kwargs]), "callbacks": log}
         self.calls.append(call)
+        spied = [self._spy(a, str(i), log) for i, a in enumerate(args)]
+        spied_kw = {k: self._spy(v, k, log) for k, v in kwargs.items()}
         try:
-            value = self.fn(*args, **kwargs)
+            value = self.fn(*spied, **spied_kw)
         except Timeout:
             call["timeout"] = True
             raise

@@ -14,12 +14,14 @@ from pathlib import Path
 
 import nbformat
 
+from course_lib.instructor.kit import load_kit
 from course_lib.instructor.notebooks import make_student_notebook
 
 ROOT = Path(__file__).resolve().parents[2]
 A02, A05 = "02_forward_euler", "05_newtons_second_law"
-EX = {A02: ["forward_euler_step", "radius_after", "drift_dt"],
-      A05: ["symplectic_euler_step", "velocity_verlet_step", "impact_time", "euler_apple_height"]}
+_KIT = load_kit(ROOT / "solutions")
+#: The exercises of the two assignments, in order, as the kit defines them.
+EX = {a: [e.name for e in _KIT[a].exercises] for a in (A02, A05)}
 STUB = "    # YOUR CODE HERE\n    raise NotImplementedError()"
 
 
@@ -62,8 +64,10 @@ class Sub:
         return path
 
 
-def _all(status: str, assignment: str) -> list[str]:
-    return [status] * len(EX[assignment])
+def _all(status: str, assignment: str, **exceptions: str) -> list[str]:
+    """``status`` for every exercise of ``assignment`` but those named in ``exceptions``."""
+    assert set(exceptions) <= set(EX[assignment]), exceptions
+    return [exceptions.get(name, status) for name in EX[assignment]]
 
 
 def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
@@ -92,18 +96,20 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
     student("blank_both", s02=_all("pending", A02), s05=_all("pending", A05))
     Sub(A02).write(nb02("blank_both"))
     Sub(A05).write(nb05("blank_both"))
-    student("partial_05", s05=["correct", "pending", "correct", "pending"])
+    student("partial_05", s05=_all("pending", A05, symplectic_euler_step="correct", impact_time="correct"))
     Sub(A05).solve("symplectic_euler_step", "impact_time").write(nb05("partial_05"))
-    student("wrong_02", s02=["incorrect", "incorrect", "pending"])
+    student("wrong_02", s02=_all("pending", A02, forward_euler_step="incorrect", radius_after="incorrect"))
     (Sub(A02).answer("forward_euler_step", "return y + dt * f(t + dt, y)")
      .answer("radius_after", "return r0 * (1 + dt) ** n").write(nb02("wrong_02")))
-    student("syntax_error_02", s02=["error", "correct", "correct"])
+    student("syntax_error_02", s02=_all("correct", A02, forward_euler_step="error"))
     (Sub(A02).solve().edit("forward_euler_step", "return y + dt * f(t, y)", "return y + dt * f(t, y")
      .write(nb02("syntax_error_02")))
-    student("exception_02", s02=["error", "correct", "correct"])
+    student("exception_02", s02=_all("pending", A02, forward_euler_step="error", radius_after="correct",
+                                      drift_dt="correct"))
     (Sub(A02).solve("radius_after", "drift_dt").answer("forward_euler_step", "return 1 // 0")
      .add("raise RuntimeError('a demo cell that breaks')", at=4).write(nb02("exception_02")))
-    student("loop_in_exercise_02", s02=["correct", "timeout", "correct"])
+    student("loop_in_exercise_02", s02=_all("pending", A02, forward_euler_step="correct",
+                                             radius_after="timeout", drift_dt="correct"))
     (Sub(A02).solve("forward_euler_step", "drift_dt")
      .answer("radius_after", "while True:\n    pass").write(nb02("loop_in_exercise_02")))
     student("stubborn_loop_top_02", s02=ok02)
@@ -117,8 +123,8 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
         """).write(nb02("stubborn_loop_top_02"))
     student("os_exit_top_05", s05=ok05)
     Sub(A05).solve().add("import os\nos._exit(3)").write(nb05("os_exit_top_05"))
-    student("segfault_05", s05=["correct", "error", "correct", "correct"])
-    (Sub(A05).solve("symplectic_euler_step", "impact_time", "euler_apple_height")
+    student("segfault_05", s05=_all("correct", A05, velocity_verlet_step="error"))
+    (Sub(A05).solve(*(n for n in EX[A05] if n != "velocity_verlet_step"))
      .answer("velocity_verlet_step", "import ctypes\nreturn ctypes.string_at(0)").write(nb05("segfault_05")))
     student("deleted_check_calls_02", s02=ok02)
     sub = Sub(A02).solve()
@@ -186,7 +192,8 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
             sys.__stderr__.write("raw " * 1_000_000)
         warnings.warn("and one real warning")
         """).write(nb05("stderr_flood_05"))
-    student("memory_hog_02", s02=["correct", "correct", "error"])
+    student("memory_hog_02", s02=_all("pending", A02, forward_euler_step="correct", radius_after="correct",
+                                       drift_dt="error"))
     (Sub(A02).solve("forward_euler_step", "radius_after")
      .answer("drift_dt", "return float(np.ones((100_000, 100_000)).sum())")
      .add("hog = [bytearray(2**26) for _ in range(10_000)]").write(nb02("memory_hog_02")))
@@ -222,20 +229,26 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
             except OSError as exc:
                 print("refused:", target, exc)
         """).write(nb02("writes_outside_02"))
-    student("uses_reference_02", s02=["incorrect", "incorrect", "correct"])
+    student("uses_reference_02", s02=_all("pending", A02, forward_euler_step="incorrect",
+                                           radius_after="incorrect", drift_dt="correct"))
     (Sub(A02).solve("drift_dt").answer("forward_euler_step", "return cl.forward_euler(f, t, y, dt)")
      .answer("radius_after", "return check.radius_formula(r0, dt, n)").write(nb02("uses_reference_02")))
-    student("mutates_input_02", s02=["incorrect", "correct", "correct"])
+    student("mutates_input_02", s02=_all("pending", A02, forward_euler_step="incorrect",
+                                          radius_after="correct", drift_dt="correct"))
     (Sub(A02).solve("radius_after", "drift_dt")
      .answer("forward_euler_step", "y += dt * f(t, y)\nreturn y").write(nb02("mutates_input_02")))
-    student("odd_returns_05", s05=["correct", "correct", "incorrect", "incorrect"])
-    (Sub(A05).solve("symplectic_euler_step", "velocity_verlet_step")
-     .answer("impact_time", "return (x for x in t)")
-     .answer("euler_apple_height", "return [h0 - g * dt**2 * n * (n - 1) / 2]").write(nb05("odd_returns_05")))
-    student("renamed_function_02", s02=["missing", "correct", "correct"])
+    student("odd_returns_05", s05=_all("correct", A05, impact_time="incorrect"))
+    (Sub(A05).solve(*(n for n in EX[A05] if n != "impact_time"))
+     .answer("impact_time", "return (x for x in t)").write(nb05("odd_returns_05")))
+    student("odd_returns_02", s02=_all("pending", A02, forward_euler_step="correct", radius_after="incorrect",
+                                        drift_dt="incorrect"))
+    (Sub(A02).solve("forward_euler_step").answer("radius_after", "return [r0 * (1 + dt**2) ** (n / 2)]")
+     .answer("drift_dt", "return '0.01'").write(nb02("odd_returns_02")))
+    student("renamed_function_02", s02=_all("correct", A02, forward_euler_step="missing"))
     (Sub(A02).solve().edit("forward_euler_step", "def forward_euler_step(", "def my_step(")
      .write(nb02("renamed_function_02")))
-    student("exit_in_exercise_02", s02=["correct", "correct", "error"])
+    student("exit_in_exercise_02", s02=_all("pending", A02, forward_euler_step="correct",
+                                             radius_after="correct", drift_dt="error"))
     (Sub(A02).solve("forward_euler_step", "radius_after")
      .answer("drift_dt", "import sys\nsys.exit('giving up')").write(nb02("exit_in_exercise_02")))
     student("nothing_handed_in")
