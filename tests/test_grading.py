@@ -24,6 +24,7 @@ from course_lib.check import evaluate, exercise
 from course_lib.instructor import codec, grade, landlock
 from course_lib.instructor.kit import identify, load_kit
 from course_lib.instructor.notebooks import make_student_notebook
+from course_lib.instructor.recorder import Recorder
 from course_lib.instructor.scan import answer_binding, strip_magics, tamper_findings
 from course_lib.instructor.submissions import (
     Cell,
@@ -35,7 +36,6 @@ from course_lib.instructor.submissions import (
     students,
 )
 from course_lib.instructor.verdicts import FIELDS, Row, judge
-from course_lib.instructor.worker import Recorder
 
 KIT = load_kit(ROOT / "solutions")
 
@@ -227,7 +227,7 @@ def test_reference_use_in_the_grader_and_in_the_check(body, flagged):
 # --- replaying recorded calls ----------------------------------------------------------
 
 def _record(check, fn) -> dict:
-    recorder = Recorder(fn, codec, np, 8 << 20)
+    recorder = Recorder(fn, 8 << 20)
     with contextlib.redirect_stdout(io.StringIO()):
         evaluate(check, recorder)
     return json.loads(json.dumps({"calls": recorder.calls}))

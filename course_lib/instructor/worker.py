@@ -8,46 +8,41 @@ network rights (:mod:`.landlock`) before running a single line of student code.
 
 It then executes the student's code cells in order (errors allowed, each cell under a
 time limit; the notebook's own ``check.…(…)`` calls do nothing here), and for each
-exercise runs the kit's check with a *recorder* in place of the student's function: the
-recorder calls the student's function and keeps, per call, a fingerprint of the
-arguments, the returned value (:mod:`.codec`), any exception and any change to its array
-arguments. Only these records go back to the grader (HMAC-signed JSON lines on pipe FD);
+exercise runs the kit's check with a *recorder* (:mod:`.recorder`) in place of the
+student's function: it calls the student's function and keeps, per call, a summary of the
+arguments, the returned value (:mod:`.codec`), any exception, any change to its
+arguments and the calls it made to function arguments. Only these records go back to the
+grader (HMAC-signed JSON lines on pipe FD);
 the grader replays them into the same check in its own process to decide the verdict.
 The worker decides nothing about grades. Imports: stdlib first, then numpy, matplotlib,
 course_lib (from the private copy).
 """
 
 import builtins
-import functools
 import hashlib
 import hmac
 import importlib
-import io
 import json
 import linecache
 import os
 import resource
 import signal
 import sys
-import traceback
 import types
 
 _dumps, _write, _hmac_new = json.dumps, os.write, hmac.new  # bound before any student code
 
 
-class Timeout(BaseException):
-    """A cell or an exercise ran out of time (a BaseException: ``except Exception`` in
-    student code does not swallow it)."""
-
-
 class Alarm:
     armed = False
+
+    exception: type = BaseException  # the recorder's Timeout, set once imports are possible
 
     @staticmethod
     def handler(signum, frame):
         if Alarm.armed:
             Alarm.armed = False
-            raise Timeout()
+            raise Alarm.exception()
 
     @staticmethod
     def arm(seconds: float) -> None:
@@ -73,46 +68,6 @@ class Channel:
                           + b" " + payload + b"\n")
         while view:
             view = view[_write(self.fd, view):]
-
-
-class Capture(io.TextIOBase):
-    """sys.stdout/sys.stderr for student code: keeps the first ``per_part`` characters of
-    each cell or exercise (and ``total`` overall), counts and drops the rest."""
-
-    def __init__(self, per_part: int, total: int):
-        self.per_part, self.left = per_part, total
-        self.begin()
-
-    def begin(self) -> None:
-        self.parts, self.size, self.dropped = [], 0, 0
-
-    def writable(self) -> bool:
-        return True
-
-    def write(self, s) -> int:
-        s = str(s)
-        room = max(min(self.per_part - self.size, self.left), 0)
-        self.parts.append(s[:room])
-        self.size += min(len(s), room)
-        self.left -= min(len(s), room)
-        self.dropped += max(len(s) - room, 0)
-        return len(s)
-
-    def take(self) -> dict:
-        out = {"output": "".join(self.parts), "dropped": self.dropped}
-        self.begin()
-        return out
-
-
-def excerpt(exc: BaseException, limit: int = 2000) -> str:
-    """The student's part of a traceback (frames in cells) and the exception line."""
-    try:
-        tb = traceback.TracebackException.from_exception(exc, capture_locals=False)
-        frames = traceback.StackSummary.from_list([f for f in tb.stack if f.filename.startswith("<cell")])
-        text = "".join(frames.format()[-6:]) + "".join(tb.format_exception_only())
-    except Exception:
-        text = f"{type(exc).__name__}\n"
-    return text[-limit:]
 
 
 def set_limits(limits: dict) -> None:
@@ -155,84 +110,6 @@ def compare(before: dict, check_module: str) -> list[str]:
     return found[:20]
 
 
-MAX_CALLBACKS = 5000
-
-
-class Recorder:
-    """Stands in for the student's function in the worker's run of a check.
-
-    Function arguments (callbacks such as ``f(t, y)`` or a check's ``run(dt)``) reach the
-    student wrapped: each call is logged (arguments, a summary of the result), so the
-    grader can make the same calls on its own objects and reproduce their side effects.
-    """
-
-    def __init__(self, fn, codec, np, max_bytes: int):
-        self.fn, self.codec, self.np, self.max_bytes = fn, codec, np, max_bytes
-        self.calls: list[dict] = []
-
-    def _spy(self, value, key: str, log: list):
-        if not isinstance(value, types.FunctionType):
-            return value
-        codec = self.codec
-
-        def spy(*args, **kwargs):
-            entry = {"arg": key}
-            if len(log) < MAX_CALLBACKS:
-                try:  # arguments the codec cannot carry (a function of the student's) are not replayed
-                    encoded = codec.encode([list(args), kwargs], 1 << 20)
-                    entry["args"] = None if codec.has_opaque(encoded) else encoded
-                except Exception:
-                    entry["args"] = None
-                log.append(entry)
-            try:
-                out = value(*args, **kwargs)
-            except BaseException as exc:
-                entry["raised"] = type(exc).__name__
-                raise
-            entry["sig"] = codec.summary(out)
-            return out
-
-        return functools.update_wrapper(spy, value)
-
-    def __call__(self, *args, **kwargs):
-        codec = self.codec
-        items = list(enumerate(args)) + list(kwargs.items())
-        before = {str(k): codec.fingerprint(v) for k, v in items}
-        log: list = []
-        call = {"sig": codec.summary([list(args), kwargs]), "callbacks": log}
-        self.calls.append(call)
-        spied = [self._spy(a, str(i), log) for i, a in enumerate(args)]
-        spied_kw = {k: self._spy(v, k, log) for k, v in kwargs.items()}
-        try:
-            value = self.fn(*spied, **spied_kw)
-        except Timeout:
-            call["timeout"] = True
-            raise
-        except BaseException as exc:
-            call["raised"] = codec.exception_record(exc)
-            call["traceback"] = excerpt(exc)
-            self._mutations(call, items, before)
-            raise codec.rebuild_exception(call["raised"]) from None
-        self._mutations(call, items, before)
-        try:
-            call["result"] = codec.encode(value, self.max_bytes)
-        except codec.EncodingLimit as exc:
-            call["result"] = {"opaque": str(exc)}
-        except Timeout:
-            raise
-        except BaseException as exc:
-            call["result"] = {"opaque": f"{type(value).__name__} (unreadable: {type(exc).__name__})"}
-        return codec.decode(call["result"])  # the worker's check sees what the grader's will
-
-    def _mutations(self, call: dict, items: list, before: dict) -> None:
-        changed = {str(k): v for k, v in items if self.codec.fingerprint(v) != before[str(k)]}
-        if changed:
-            try:
-                call["mutated"] = {k: self.codec.encode(v, self.max_bytes) for k, v in changed.items()}
-            except Exception:
-                call["mutated"] = {k: {"opaque": "changed argument"} for k in changed}
-
-
 def main() -> None:
     channel_fd = int(sys.argv[1])
     job = json.loads(sys.stdin.read())
@@ -244,14 +121,17 @@ def main() -> None:
     signal.signal(signal.SIGALRM, Alarm.handler)
 
     import matplotlib
-    import numpy as np
+    import numpy  # noqa: F401 (loaded before the sandbox closes, like matplotlib)
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     from course_lib.check import evaluate
-    from course_lib.instructor import codec, landlock
+    from course_lib.instructor import landlock
+    from course_lib.instructor.recorder import Capture, Recorder, Timeout, excerpt
     from course_lib.instructor.scan import strip_magics
+
+    Alarm.exception = Timeout
 
     checks = importlib.import_module(job["check_module"])
     originals = {e["check"]: getattr(checks, e["check"]) for e in job["exercises"]}
@@ -311,7 +191,7 @@ def main() -> None:
                   "callable": callable(fn), "type": type(fn).__name__,
                   "module": str(getattr(fn, "__module__", "") or "")[:200]}
         if fn is not _MISSING and callable(fn):
-            recorder = Recorder(fn, codec, np, job["limits"]["value_bytes"])
+            recorder = Recorder(fn, job["limits"]["value_bytes"])
             try:
                 try:
                     Alarm.arm(job["limits"]["exercise_s"])

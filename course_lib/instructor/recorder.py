@@ -1,0 +1,137 @@
+"""What the worker keeps while student code runs: output, tracebacks, calls to exercises.
+
+:class:`Recorder` stands in for a student's function in the worker's run of a check (see
+:mod:`.worker`); :class:`Capture` replaces ``sys.stdout``/``sys.stderr``; :func:`excerpt`
+keeps the student's part of a traceback. Runs inside the sandboxed worker, so it imports
+only the standard library and :mod:`.codec`.
+"""
+
+import functools
+import io
+import traceback
+import types
+
+from . import codec
+
+
+class Timeout(BaseException):
+    """A cell or an exercise ran out of time (a BaseException: ``except Exception`` in
+    student code does not swallow it)."""
+
+
+class Capture(io.TextIOBase):
+    """sys.stdout/sys.stderr for student code: keeps the first ``per_part`` characters of
+    each cell or exercise (and ``total`` overall), counts and drops the rest."""
+
+    def __init__(self, per_part: int, total: int):
+        self.per_part, self.left = per_part, total
+        self.begin()
+
+    def begin(self) -> None:
+        self.parts, self.size, self.dropped = [], 0, 0
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, s) -> int:
+        s = str(s)
+        room = max(min(self.per_part - self.size, self.left), 0)
+        self.parts.append(s[:room])
+        self.size += min(len(s), room)
+        self.left -= min(len(s), room)
+        self.dropped += max(len(s) - room, 0)
+        return len(s)
+
+    def take(self) -> dict:
+        out = {"output": "".join(self.parts), "dropped": self.dropped}
+        self.begin()
+        return out
+
+
+def excerpt(exc: BaseException, limit: int = 2000) -> str:
+    """The student's part of a traceback (frames in cells) and the exception line."""
+    try:
+        tb = traceback.TracebackException.from_exception(exc, capture_locals=False)
+        frames = traceback.StackSummary.from_list([f for f in tb.stack if f.filename.startswith("<cell")])
+        text = "".join(frames.format()[-6:]) + "".join(tb.format_exception_only())
+    except Exception:
+        text = f"{type(exc).__name__}\n"
+    return text[-limit:]
+
+
+MAX_CALLBACKS = 5000
+
+
+class Recorder:
+    """Stands in for the student's function in the worker's run of a check.
+
+    Function arguments (callbacks such as ``f(t, y)`` or a check's ``run(dt)``) reach the
+    student wrapped: each call is logged (arguments, a summary of the result), so the
+    grader can make the same calls on its own objects and reproduce their side effects.
+    """
+
+    def __init__(self, fn, max_bytes: int):
+        self.fn, self.codec, self.max_bytes = fn, codec, max_bytes
+        self.calls: list[dict] = []
+
+    def _spy(self, value, key: str, log: list):
+        if not isinstance(value, types.FunctionType):
+            return value
+        codec = self.codec
+
+        def spy(*args, **kwargs):
+            entry = {"arg": key}
+            if len(log) < MAX_CALLBACKS:
+                try:  # arguments the codec cannot carry (a function of the student's) are not replayed
+                    encoded = codec.encode([list(args), kwargs], 1 << 20)
+                    entry["args"] = None if codec.has_opaque(encoded) else encoded
+                except Exception:
+                    entry["args"] = None
+                log.append(entry)
+            try:
+                out = value(*args, **kwargs)
+            except BaseException as exc:
+                entry["raised"] = type(exc).__name__
+                raise
+            entry["sig"] = codec.summary(out)
+            return out
+
+        return functools.update_wrapper(spy, value)
+
+    def __call__(self, *args, **kwargs):
+        codec = self.codec
+        items = list(enumerate(args)) + list(kwargs.items())
+        before = {str(k): codec.fingerprint(v) for k, v in items}
+        log: list = []
+        call = {"sig": codec.summary([list(args), kwargs]), "callbacks": log}
+        self.calls.append(call)
+        spied = [self._spy(a, str(i), log) for i, a in enumerate(args)]
+        spied_kw = {k: self._spy(v, k, log) for k, v in kwargs.items()}
+        try:
+            value = self.fn(*spied, **spied_kw)
+        except Timeout:
+            call["timeout"] = True
+            raise
+        except BaseException as exc:
+            call["raised"] = codec.exception_record(exc)
+            call["traceback"] = excerpt(exc)
+            self._mutations(call, items, before)
+            raise codec.rebuild_exception(call["raised"]) from None
+        self._mutations(call, items, before)
+        try:
+            call["result"] = codec.encode(value, self.max_bytes)
+        except codec.EncodingLimit as exc:
+            call["result"] = {"opaque": str(exc)}
+        except Timeout:
+            raise
+        except BaseException as exc:
+            call["result"] = {"opaque": f"{type(value).__name__} (unreadable: {type(exc).__name__})"}
+        return codec.decode(call["result"])  # the worker's check sees what the grader's will
+
+    def _mutations(self, call: dict, items: list, before: dict) -> None:
+        changed = {str(k): v for k, v in items if self.codec.fingerprint(v) != before[str(k)]}
+        if changed:
+            try:
+                call["mutated"] = {k: self.codec.encode(v, self.max_bytes) for k, v in changed.items()}
+            except Exception:
+                call["mutated"] = {k: {"opaque": "changed argument"} for k in changed}
