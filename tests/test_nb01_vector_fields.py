@@ -119,7 +119,7 @@ K, DT = 0.25, 0.01
 def _whirl_run():
     whirl = compose(vortex, scaled(radial, -K))
     X0 = np.random.default_rng(2026).uniform(-2.0, 2.0, size=(300, 2))
-    traj = cl.integrate(whirl, X0, (0.0, 2 * np.pi), DT)
+    traj = cl.integrate(whirl, X0, (0.0, 628 * DT), DT)
     T = traj.t[-1]
     c, s, d = np.cos(T), np.sin(T), np.exp(-K * T)
     exact = d * np.stack((c * X0[:, 0] - s * X0[:, 1], s * X0[:, 0] + c * X0[:, 1]), axis=-1)
@@ -214,7 +214,8 @@ def _pending(*args, **kwargs):
     raise NotImplementedError()
 
 
-@pytest.mark.parametrize("name", ["vortex_field", "whirlpool", "advect_step", "particle_frame"])
+@pytest.mark.parametrize("name", ["vortex_field", "whirlpool", "advect_step", "particle_frame",
+                                  "cohesion"])
 def test_checks_report_pending(name, capsys):
     status, out = _run(getattr(nb01, name), _pending, capsys)
     assert status == "pending"
@@ -224,7 +225,7 @@ def test_checks_report_pending(name, capsys):
 def test_every_check_is_registered():
     names = {k for k in check.REGISTRY if k.startswith("nb01.")}
     assert names == {"nb01.vortex_field", "nb01.whirlpool", "nb01.advect_step",
-                     "nb01.particle_frame"}
+                     "nb01.particle_frame", "nb01.cohesion"}
 
 
 # vortex_field
@@ -395,7 +396,197 @@ def test_checks_survive_a_crashing_answer(capsys):
     def boom(*args, **kwargs):
         raise ZeroDivisionError("oops")
 
-    for name in ("vortex_field", "whirlpool", "advect_step", "particle_frame"):
+    for name in ("vortex_field", "whirlpool", "advect_step", "particle_frame", "cohesion"):
         status, out = _run(getattr(nb01, name), boom, capsys)
         assert status == "incorrect"
         assert "ZeroDivisionError: oops" in out
+
+
+# --- the field speeds quoted under the quiver plot ----------------------------------------
+
+
+def test_quiver_speeds_quoted():
+    Xg, Yg = grid(extent=2.0, n=11)
+    for field in (radial, vortex):
+        U, W = sample(field, Xg, Yg)
+        assert np.hypot(U, W).min() == 0.0
+        assert np.hypot(U, W).max() == pytest.approx(2 * math.sqrt(2), rel=1e-15)
+    assert f"{2 * math.sqrt(2):.2f}" == "2.83"
+
+
+def test_whirlpool_gap_grows_as_the_per_step_analysis_says():
+    traj, _ = _whirl_run()
+    n = np.arange(629)
+    r = np.linalg.norm(traj.y[:, 0], axis=1)
+    X0 = traj.y[0, 0]
+    r_exact = np.linalg.norm(X0) * np.exp(-K * traj.t)
+    predicted = math.hypot(1 - K * DT, DT) ** n * np.exp(K * traj.t)
+    np.testing.assert_allclose(r / r_exact, predicted, rtol=1e-12)
+    assert np.all(np.diff(predicted) > 0)  # grows steadily, step after step
+    assert traj.t[-1] == pytest.approx(6.28, abs=1e-12)
+
+
+# --- Section 7: the flock ----------------------------------------------------------------
+
+
+def test_flock_numbers_quoted():
+    from course_lib.lessons import nb01_vector_fields as lesson
+
+    flock = lesson.run_flock(n=80, steps=600, dt=0.05)
+    alone = lesson.run_flock(n=80, steps=600, dt=0.05, weights=(1.0, 0.0, 0.6))
+    assert flock.t[-1] == pytest.approx(30.0)
+    assert f"{flock.polarisation[0]:.2f}" == "0.08"
+    assert f"{flock.polarisation[-1]:.2f}" == "0.86"
+    assert f"{alone.polarisation[-1]:.2f}" == "0.23"
+    assert 1 / math.sqrt(80) == pytest.approx(0.11, abs=0.005)  # "about 0.1"
+    speeds = np.linalg.norm(flock.V[1:], axis=-1)
+    assert speeds.min() >= 0.6 - 1e-12 and speeds.max() <= 1.5 + 1e-12
+    assert np.all((flock.X >= 0) & (flock.X < 10.0))
+
+
+def test_flock_rules_against_a_loop():
+    from course_lib.lessons import nb01_vector_fields as lesson
+
+    rng = np.random.default_rng(7)
+    X = rng.uniform(0, 10, (25, 2))
+    V = rng.normal(size=(25, 2))
+    got = lesson.flock_acceleration(X, V, box=10.0, radius=1.5, r_sep=0.5, weights=(1.0, 1.0, 0.6))
+    want = np.zeros_like(X)
+    for i in range(25):
+        sep, ali, coh, count = np.zeros(2), np.zeros(2), np.zeros(2), 0
+        for j in range(25):
+            d = X[j] - X[i]
+            d -= 10.0 * np.round(d / 10.0)
+            dist = np.linalg.norm(d)
+            if i == j or dist >= 1.5:
+                continue
+            count += 1
+            coh += d
+            ali += V[j]
+            if dist < 0.5:
+                sep -= d / dist**2
+        if count:
+            want[i] = sep + (ali / count - V[i]) + 0.6 * coh / count
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12)
+    assert lesson.polarisation(np.ones((3, 2))) == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="n >= 2"):
+        lesson.run_flock(n=1)
+
+
+# cohesion
+
+
+def _cohesion_ok(X, radius):
+    X = np.asarray(X, dtype=float)
+    D = X[None, :, :] - X[:, None, :]
+    near = np.sum(D**2, axis=-1) < radius**2
+    np.fill_diagonal(near, False)
+    count = near.sum(axis=1, keepdims=True)
+    return (near[:, :, None] * D).sum(axis=1) / np.maximum(count, 1)
+
+
+def _cohesion_loop(X, radius):
+    out = np.zeros((len(X), 2))
+    for i in range(len(X)):
+        nbrs = [X[j] - X[i] for j in range(len(X)) if j != i and np.linalg.norm(X[j] - X[i]) < radius]
+        if nbrs:
+            out[i] = np.mean(nbrs, axis=0)
+    return out
+
+
+def test_cohesion_reference_against_a_loop_and_by_hand():
+    for _, X, radius in nb01._cohesion_cases():
+        np.testing.assert_allclose(nb01.cohesion_reference(X, radius), _cohesion_loop(X, radius),
+                                   rtol=1e-12, atol=1e-14)
+    X = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [5.0, 5.0], [5.5, 5.0]])
+    np.testing.assert_allclose(nb01.cohesion_reference(X, 1.2),
+                               [[0.5, 0.5], [-1, 0], [0, -1], [0.5, 0], [-0.5, 0]])
+
+
+def test_cohesion_accepts_right_answers(capsys):
+    for answer in (_cohesion_ok, _cohesion_loop,
+                   lambda X, r: _cohesion_ok(X, r).astype(np.float32),
+                   lambda X, r: _cohesion_ok(np.asarray(X, np.float32), np.float32(r)),
+                   lambda X, r: _cohesion_ok(X, r).tolist()):
+        status, out = _run(nb01.cohesion, answer, capsys)
+        assert status == "correct", out
+
+
+def _cohesion_self(X, radius):
+    D = X[None] - X[:, None]
+    near = np.sum(D**2, axis=-1) < radius**2
+    return (near[:, :, None] * D).sum(1) / near.sum(1, keepdims=True)
+
+
+def _cohesion_nan(X, radius):
+    D = X[None] - X[:, None]
+    near = np.sum(D**2, axis=-1) < radius**2
+    np.fill_diagonal(near, False)
+    with np.errstate(all="ignore"):
+        return (near[:, :, None] * D).sum(1) / near.sum(1, keepdims=True)
+
+
+def _cohesion_in_place(X, radius):
+    out = _cohesion_ok(X, radius)
+    X -= X.mean(axis=0)
+    return out
+
+
+@pytest.mark.parametrize(
+    ("answer", "hint"),
+    [
+        (_cohesion_self, "a boid is not its own neighbour"),
+        (_cohesion_nan, "return 0 for it"),
+        (lambda X, r: -_cohesion_ok(X, r), "points away from the neighbours"),
+        (lambda X, r: _cohesion_ok(X, r) + np.where(
+            np.abs(_cohesion_ok(X, r)).sum(1, keepdims=True) > 0, X, 0.0), "not the centre itself"),
+        (_cohesion_in_place, "do not assign into X"),
+        (lambda X, r: _cohesion_ok(X, r)[:, 0], "expected shape"),
+    ],
+    ids=["self", "nan", "sign", "centre", "in-place", "shape"],
+)
+def test_cohesion_mistakes(answer, hint, capsys):
+    status, out = _run(nb01.cohesion, answer, capsys)
+    assert status == "incorrect"
+    assert hint in out
+    assert len(out) < 4000  # a wrong 200-boid answer is summarised, not printed whole
+
+
+# the reference is computed before the student's function runs
+
+
+def test_scribbling_answer_is_compared_with_the_true_reference(capsys):
+    def scribbler(t, X):
+        V = _vortex_ok(t, X)
+        X *= 100.0                      # corrupts its input after computing the answer
+        return V
+
+    status, out = _run(nb01.vortex_field, scribbler, capsys)
+    assert status == "incorrect"
+    assert "do not assign into X" in out
+    # every value case passes: the expected values came from pristine copies
+    assert check.RESULTS["nb01.vortex_field"]["passed"] == 6
+
+    def scribbling_frame(particles, V, dt, newborn):
+        out = _frame(particles, V, dt, newborn)
+        particles["X"] *= 0.0
+        return out
+
+    status, out = _run(nb01.particle_frame, scribbling_frame, capsys)
+    assert "the positions after one frame (dt = 0.5 s): expected" not in out
+    assert "build and return a new dict" in out
+
+
+@pytest.mark.parametrize("name", ["vortex_field", "whirlpool"])
+def test_field_checks_accept_float32(name, capsys):
+    answer = {"vortex_field": lambda t, X: _vortex_ok(t, X).astype(np.float32),
+              "whirlpool": lambda t, X, k=0.5: _whirl_ok(t, X, k).astype(np.float32)}[name]
+    status, out = _run(getattr(nb01, name), answer, capsys)
+    assert status == "correct", out
+
+
+def test_advect_and_frame_accept_float32_and_lists(capsys):
+    status, out = _run(nb01.advect_step, lambda X, V, dt: (X + dt * V).astype(np.float32), capsys)
+    assert status == "correct", out
+    status, out = _run(nb01.advect_step, lambda X, V, dt: (X + dt * V).tolist(), capsys)
+    assert status == "correct", out

@@ -9,7 +9,9 @@ the student only for what the student's code did:
 - :func:`as_array` reads an answer as a float (or complex) array without raising, so a
   list, a tuple, a NumPy scalar or a ``(1,)`` array are all judged on their values;
 - :func:`rtol_for` widens a tolerance to the precision the answer carries, so a right
-  answer computed in float32 is accepted (it has about 7 significant digits).
+  answer computed in float32 is accepted (it has about 7 significant digits);
+- :func:`close` compares at that precision, names the usual mistake an answer matches
+  (:func:`mistake_hint`), and summarises a large wrong array by its worst row.
 
 Imports NumPy and :class:`course_lib.check.Checker` only.
 """
@@ -72,3 +74,46 @@ def rtol_for(answer, rtol: float) -> float:
     if arr is None or not np.issubdtype(arr.dtype, np.inexact):
         return rtol
     return max(rtol, _ROUNDOFF_FACTOR * float(np.finfo(arr.dtype).eps))
+
+
+def mistake_hint(actual, mistakes: dict[str, object], default: str | None = None) -> str | None:
+    """The hint of the first typical mistake ``actual`` matches (any shape), else ``default``.
+
+    ``mistakes`` maps a hint to the value a typical wrong answer gives; unlike
+    :meth:`Checker.close`, a mistake of any shape is recognised.
+    """
+    a = as_array(actual)
+    if a is None:
+        return default
+    rtol = rtol_for(a, 1e-9)
+    for hint, wrong in mistakes.items():
+        w = np.asarray(wrong, dtype=float)
+        if w.shape == a.shape and np.allclose(a, w, rtol=rtol, atol=rtol * 1e-3):
+            return hint
+    return default
+
+
+def close(ck: Checker, got, expected, what: str, *, hint: str | None = None,
+           mistakes: dict | None = None, rtol: float = 1e-9, atol: float | None = None) -> bool:
+    """Compare at the precision of the student's answer (float32 accepted); a large wrong
+    array is summarised by its worst entry instead of printed whole.
+
+    ``atol`` (the answer's units) defaults to a thousandth of ``rtol`` times the largest
+    expected magnitude; pass one when the answer is a difference of larger numbers.
+    """
+    expected = np.asarray(expected, dtype=float)
+    rtol = rtol_for(got, rtol)
+    if atol is None:
+        atol = max(1e-12, rtol * 1e-3 * (float(np.max(np.abs(expected))) if expected.size else 1.0))
+    answer = as_array(got)
+    if answer is None or expected.size <= 12 or answer.shape != expected.shape:
+        return ck.close(got, expected, what, rtol=rtol, atol=atol, hint=hint, mistakes=mistakes)
+    bad = ~np.isclose(answer, expected, rtol=rtol, atol=atol)
+    if not bad.any():
+        return ck.expect(True, what)
+    if mistakes:
+        hint = mistake_hint(answer, mistakes, hint)
+    row = np.unravel_index(int(np.argmax(bad)), bad.shape)[0]
+    return ck.expect(False, what, f"{int(bad.sum())} of {bad.size} values differ; e.g. row "
+                     f"{row}: expected {np.round(expected[row], 6)}, got {np.round(answer[row], 6)}",
+                     hint)

@@ -2,7 +2,11 @@
 
 Each check compares the student's function with the reference in :mod:`course_lib`
 (:mod:`course_lib.fields`, :func:`course_lib.integrate`) on a few cases, and names the
-usual mistake when the answer matches it.
+usual mistake when the answer matches it. Every reference value and every "usual mistake"
+is computed from pristine copies of the inputs *before* the student's function runs, and
+the student's function gets its own copies: a function that changes its input is told
+so, without being compared with values its own scribbling corrupted. Answers computed in
+float32 are judged at float32 precision.
 """
 
 from __future__ import annotations
@@ -12,6 +16,9 @@ import numpy as np
 from .. import fields
 from ..integrators import integrate
 from . import Checker, exercise
+from ._answers import as_array, call, rtol_for
+from ._answers import close as _close
+from ._answers import mistake_hint as _mistake_hint
 
 _RNG_SEED = 2026
 
@@ -36,42 +43,34 @@ def _points() -> list[tuple[str, np.ndarray]]:
     ]
 
 
-def _mistake_hint(actual, mistakes: dict[str, object], default: str | None = None) -> str | None:
-    """The hint of the first typical mistake ``actual`` matches (any shape), else ``default``.
-
-    ``Checker.close`` only compares mistakes of the expected shape; a wrong shape gets
-    :data:`_SHAPE_HINT` unless it matches a listed mistake exactly.
-    """
-    try:
-        a = np.asarray(actual, dtype=float)
-    except (TypeError, ValueError):
-        return default
-    for hint, wrong in mistakes.items():
-        w = np.asarray(wrong, dtype=float)
-        if w.shape == a.shape and np.allclose(a, w, rtol=1e-9, atol=1e-12):
-            return hint
-    return default
-
-
 def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=None,
                  time_check: bool = True, formula: str | None = None) -> None:
     untouched = True
     for what, X in (_points() if points is None else points):
-        X_before = X.copy()
-        got = answer(0.0, X)
-        untouched = untouched and np.array_equal(X, X_before)
+        expected, mistakes = reference(0.0, X.copy()), mistakes_of(X.copy())
+        X_student = X.copy()
+        ok, got = call(ck, f"{name} at {what}", answer, 0.0, X_student)
+        untouched = untouched and np.array_equal(X_student, X)
+        if not ok:
+            continue
         shape_ok = np.shape(got) == X.shape
-        hint = _mistake_hint(got, mistakes_of(X), formula if shape_ok else _SHAPE_HINT)
-        ck.close(got, reference(0.0, X), f"{name} at {what}", hint=hint)
+        hint = _mistake_hint(got, mistakes, formula if shape_ok else _SHAPE_HINT)
+        _close(ck, got, expected, f"{name} at {what}", hint=hint)
     ck.expect(untouched, f"{name} leaves X unchanged",
               "your function modified the positions it was given",
               "compute a new array; do not assign into X")
     if time_check:
         X = np.array([0.5, -1.5])
-        right_at_0 = np.allclose(np.asarray(answer(0.0, X), dtype=float), reference(0.0, X))
-        ck.close(answer(2.7, X), reference(2.7, X), f"{name} at t = 2.7 s (time-independent)",
-                 hint="this field does not depend on t; do not use t in the formula"
-                 if right_at_0 else formula)
+        expected_0, expected_t = reference(0.0, X.copy()), reference(2.7, X.copy())
+        ok0, at_0 = call(ck, f"{name} at t = 0", answer, 0.0, X.copy())
+        ok, got = call(ck, f"{name} at t = 2.7 s (time-independent)", answer, 2.7, X.copy())
+        if ok0 and ok:
+            a0 = as_array(at_0)
+            right_at_0 = a0 is not None and a0.shape == X.shape and np.allclose(
+                a0, expected_0, rtol=rtol_for(a0, 1e-9))
+            _close(ck, got, expected_t, f"{name} at t = 2.7 s (time-independent)",
+                   hint="this field does not depend on t; do not use t in the formula"
+                   if right_at_0 else formula)
 
 
 @exercise
@@ -139,12 +138,14 @@ def advect_step(ck: Checker, advect_step) -> None:
          rng.uniform(-2.0, 2.0, size=(4, 2)), rng.uniform(-1.0, 1.0, size=(4, 2)), 0.25),
     ]
     for what, X, V, dt in cases:
-        X_before, V_before = X.copy(), V.copy()
         # The exact answer: V is constant over the step, so the displacement is dt * V.
         wind = fields.constant_wind(V) if V.ndim == 1 else (lambda t, Y, V=V: V)
         expected = integrate(wind, X, (0.0, dt), dt).y[-1]
-        got = advect_step(X, V, dt)
-        ck.close(got, expected, what, mistakes={
+        X_student, V_student = X.copy(), V.copy()
+        ok, got = call(ck, what, advect_step, X_student, V_student, dt)
+        if not ok:
+            continue
+        _close(ck, got, expected, what, mistakes={
             "you moved against the velocity: the new position is X + dt V, not X - dt V":
                 X - dt * V,
             "dt is missing (or taken as 1): in dt seconds a particle moves dt * V, "
@@ -154,7 +155,7 @@ def advect_step(ck: Checker, advect_step) -> None:
                 X + 0.5 * dt * V,
         }, hint="the new position is X + dt * V")
         ck.expect(
-            np.array_equal(X, X_before) and np.array_equal(V, V_before),
+            np.array_equal(X_student, X) and np.array_equal(V_student, V),
             f"advect_step leaves X and V unchanged ({what})",
             "your function modified its inputs (X += ... changes the caller's array)",
             "return X + dt * V as a new array instead of updating X in place",
@@ -192,9 +193,12 @@ def _particle_case():
 def particle_frame(ck: Checker, particle_frame) -> None:
     """One frame of a particle system: move and age, delete the expired, append newborns."""
     particles, V, dt, newborn = _particle_case()
-    before = {key: val.copy() for key, val in particles.items()}
-    got = particle_frame(particles, V, dt, newborn)
     expected = particle_frame_reference(particles, V, dt, newborn)
+    given = {key: val.copy() for key, val in particles.items()}
+    ok, got = call(ck, "particle_frame runs", particle_frame, given, V.copy(), dt,
+                   {key: val.copy() for key, val in newborn.items()})
+    if not ok:
+        return
     if not isinstance(got, dict):
         ck.expect(False, "particle_frame returns a dict of attribute arrays",
                   f"got {type(got).__name__}", "return a dict with the same keys as particles")
@@ -232,13 +236,77 @@ def particle_frame(ck: Checker, particle_frame) -> None:
         hint = _mistake_hint(got[key], {h: m[key] for h, m in mistakes.items()},
                              "update, then delete, then create: survivors first, newborns "
                              "appended at the end")
-        ck.close(got[key], expected[key], f"the {unit} after one frame (dt = 0.5 s)", hint=hint)
+        _close(ck, got[key], expected[key], f"the {unit} after one frame (dt = 0.5 s)", hint=hint)
     for key in ("lifetime", "colour"):
         if key in got:
-            ck.close(got[key], expected[key], f"the {key} of the survivors and the newborns",
+            _close(ck, got[key], expected[key], f"the {key} of the survivors and the newborns",
                      hint="every attribute must be filtered with the same alive mask "
                           "and then extended with the newborns'")
-    ck.expect(all(np.array_equal(particles[k], before[k]) for k in before),
+    ck.expect(all(np.array_equal(particles[k], given[k]) for k in particles),
               "particle_frame leaves its input unchanged",
               "your function modified the particles dict it was given",
               "build and return a new dict")
+
+
+# --- flocking: the cohesion rule ---------------------------------------------------------
+
+
+def cohesion_reference(X, radius: float) -> np.ndarray:
+    """For each boid, the mean position of the *other* boids closer than ``radius`` minus
+    its own position (m), shape ``(N, 2)``; zero for a boid with no neighbour."""
+    X = np.asarray(X, dtype=float)
+    D = X[None, :, :] - X[:, None, :]                  # D[i, j] = X_j - X_i
+    near = np.einsum("ijk,ijk->ij", D, D) < radius**2
+    np.fill_diagonal(near, False)
+    count = near.sum(axis=1, keepdims=True)
+    return np.einsum("ij,ijk->ik", near, D) / np.maximum(count, 1)
+
+
+def _cohesion_cases():
+    rng = np.random.default_rng(_RNG_SEED)
+    by_hand = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [5.0, 5.0], [5.5, 5.0]])
+    return [
+        ("5 boids by hand, radius 1.2 m", by_hand, 1.2),
+        ("2 boids 3 m apart, radius 1 m (no neighbours)", np.array([[0.0, 0.0], [3.0, 0.0]]), 1.0),
+        ("200 boids in a 10 m square, radius 1.5 m", rng.uniform(0.0, 10.0, size=(200, 2)), 1.5),
+        ("60 boids in a 3 m square, radius 0.8 m", rng.uniform(0.0, 3.0, size=(60, 2)), 0.8),
+    ]
+
+
+@exercise
+def cohesion(ck: Checker, cohesion) -> None:
+    """``cohesion(X, radius)``: vector to the local centre of the neighbours, vectorised."""
+    for what, X, radius in _cohesion_cases():
+        expected = cohesion_reference(X, radius)
+        D = X[None, :, :] - X[:, None, :]
+        within = np.einsum("ijk,ijk->ij", D, D) < radius**2   # includes the boid itself
+        others = within & ~np.eye(len(X), dtype=bool)
+        count = others.sum(axis=1, keepdims=True)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mistakes = {
+                "a boid is not its own neighbour: leave it out of the mean (it pulls the mean "
+                "towards itself)": np.einsum("ij,ijk->ik", within, D) / within.sum(1, keepdims=True),
+                "return the vector FROM the boid TO the local centre (centre - X_i), not the "
+                "centre itself": np.where(count > 0, expected + X, 0.0),
+                "the pull points away from the neighbours: it is centre - X_i": -expected,
+                "average over the neighbours only: divide by their number, not by N":
+                    np.einsum("ij,ijk->ik", others, D) / len(X),
+            }
+        X_student = X.copy()
+        ok, got = call(ck, what, cohesion, X_student, radius)
+        if not ok:
+            continue
+        answer = as_array(got)
+        if answer is not None and answer.shape == expected.shape and np.isnan(answer).any():
+            ck.expect(False, what, "your answer contains NaN",
+                      "a boid with no neighbour has no pull: return 0 for it (your mean divided "
+                      "0 by 0)")
+            continue
+        hint = _mistake_hint(got, mistakes, "for each boid i: the mean of X_j - X_i over the other "
+                             "boids j with |X_j - X_i| < radius, and 0 if there is none")
+        # Offsets between positions of up to 10 m: 10 µm is far below anything a flock
+        # shows, and admits an answer computed in float32 anywhere along the way.
+        _close(ck, got, expected, what, hint=hint, rtol=1e-6, atol=1e-5)
+        ck.expect(np.array_equal(X_student, X), f"cohesion leaves X unchanged ({what})",
+                  "your function modified the positions it was given",
+                  "compute new arrays; do not assign into X")

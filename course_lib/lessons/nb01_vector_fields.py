@@ -1,0 +1,122 @@
+"""Notebook 01 (particles in vector fields): a short flocking demo, vectorised.
+
+Reynolds' boids (1987) in a periodic square: every boid steers by three local rules,
+computed for all boids at once from the ``(N, N, 2)`` array of offsets between them,
+
+- **separation**: away from neighbours closer than ``r_sep``, weighted by 1/distance²;
+- **alignment**: towards the mean velocity of the neighbours within ``radius``;
+- **cohesion**: towards the mean position of the same neighbours,
+
+then takes a symplectic Euler step (new velocity first, clamped to a speed range, then
+the position with it). :func:`run_flock` returns the whole run and its *polarisation*
+``|mean(V/|V|)|`` (0: headings at random, 1: all boids fly the same way). Notebook 10
+teaches flocking in full; this is the one-screen version notebook 01 shows.
+
+Imports NumPy only (the drawing helper takes a matplotlib Axes); no course_lib core is needed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Default rule weights: separation, alignment, cohesion (1/s², 1/s, 1/s²).
+WEIGHTS = (1.0, 1.0, 0.6)
+
+
+def periodic_offsets(X: np.ndarray, box: float) -> np.ndarray:
+    """``D[i, j] = X_j - X_i`` (m) to the nearest periodic image, shape ``(N, N, 2)``."""
+    D = X[None, :, :] - X[:, None, :]
+    return D - box * np.round(D / box)
+
+
+def flock_acceleration(X, V, box: float = 10.0, radius: float = 1.5, r_sep: float = 0.5,
+                       weights=WEIGHTS) -> np.ndarray:
+    """Steering acceleration (m/s²) of every boid, shape ``(N, 2)``.
+
+    Parameters
+    ----------
+    X, V : ndarray, shape (N, 2)
+        Positions (m) in ``[0, box)²`` and velocities (m/s).
+    box : float
+        Side of the periodic square (m).
+    radius : float
+        A boid sees the others closer than this (m); it never counts itself.
+    r_sep : float
+        Separation acts on neighbours closer than this (m).
+    weights : (float, float, float)
+        Weights of separation, alignment and cohesion; 0 switches a rule off.
+    """
+    w_sep, w_ali, w_coh = weights
+    D = periodic_offsets(np.asarray(X, dtype=float), box)
+    dist2 = np.einsum("ijk,ijk->ij", D, D)
+    near = dist2 < radius**2
+    np.fill_diagonal(near, False)
+    count = near.sum(axis=1, keepdims=True)
+    safe = np.maximum(count, 1)                        # a boid alone feels no pull
+    cohesion = np.einsum("ij,ijk->ik", near, D) / safe
+    alignment = np.where(count > 0, (near @ V) / safe - V, 0.0)
+    close = near & (dist2 < r_sep**2)
+    inv2 = np.where(close, 1.0 / np.where(close, dist2, 1.0), 0.0)
+    separation = -np.einsum("ij,ijk->ik", inv2, D)
+    return w_sep * separation + w_ali * alignment + w_coh * cohesion
+
+
+@dataclass
+class Flock:
+    """A boids run: ``t`` ``(n+1,)`` (s), ``X`` and ``V`` ``(n+1, N, 2)`` (m, m/s), the box
+    side (m) and the ``polarisation`` ``(n+1,)`` (dimensionless, 0 to 1)."""
+
+    t: np.ndarray
+    X: np.ndarray
+    V: np.ndarray
+    box: float
+    polarisation: np.ndarray
+
+
+def polarisation(V) -> np.ndarray:
+    """``|mean over boids of V/|V||``, for velocities of shape ``(..., N, 2)``."""
+    V = np.asarray(V, dtype=float)
+    headings = V / np.linalg.norm(V, axis=-1, keepdims=True)
+    return np.linalg.norm(headings.mean(axis=-2), axis=-1)
+
+
+def run_flock(n: int = 80, steps: int = 600, dt: float = 0.05, box: float = 10.0,
+              weights=WEIGHTS, speed=(0.6, 1.5), seed: int = 2026) -> Flock:
+    """Fly ``n`` boids for ``steps`` steps of ``dt`` (s) from random positions and headings.
+
+    Each step: acceleration from :func:`flock_acceleration`, velocity update, speed clamped
+    to ``speed = (min, max)`` (m/s), position update with the new velocity, wrapped into
+    the box. Seeded: the same arguments give the same flock.
+    """
+    if n < 2 or steps < 1 or not dt > 0 or not box > 0:
+        raise ValueError(f"need n >= 2, steps >= 1, dt > 0 and box > 0; got n={n}, "
+                         f"steps={steps}, dt={dt}, box={box}")
+    rng = np.random.default_rng(seed)
+    X = rng.uniform(0.0, box, size=(n, 2))
+    angle = rng.uniform(0.0, 2 * np.pi, size=n)
+    V = np.mean(speed) * np.stack((np.cos(angle), np.sin(angle)), axis=-1)
+    Xs = np.empty((steps + 1, n, 2))
+    Vs = np.empty((steps + 1, n, 2))
+    Xs[0], Vs[0] = X, V
+    lo, hi = speed
+    for k in range(steps):
+        V = V + dt * flock_acceleration(X, V, box, weights=weights)
+        s = np.linalg.norm(V, axis=1, keepdims=True)
+        V = V * np.clip(s, lo, hi) / np.maximum(s, 1e-12)
+        X = (X + dt * V) % box
+        Xs[k + 1], Vs[k + 1] = X, V
+    return Flock(dt * np.arange(steps + 1), Xs, Vs, box, polarisation(Vs))
+
+
+def draw_flock(ax, flock: Flock, step: int, color: str = "#1f4e8c") -> None:
+    """Arrows at the boids' positions, along their headings, at one step of a run."""
+    X, V = flock.X[step], flock.V[step]
+    U = V / np.linalg.norm(V, axis=1, keepdims=True)
+    ax.quiver(X[:, 0], X[:, 1], U[:, 0], U[:, 1], color=color, angles="xy", scale=22,
+              width=0.007, headwidth=4)
+    ax.set(xlim=(0, flock.box), ylim=(0, flock.box), aspect="equal", xlabel="x (m)",
+           ylabel="y (m)")
+    ax.set_title(f"t = {flock.t[step]:.0f} s, polarisation {flock.polarisation[step]:.2f}",
+                 fontsize=10)
