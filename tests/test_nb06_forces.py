@@ -52,6 +52,23 @@ def test_two_body_period_error_is_second_order():
     assert errs[0] / errs[1] == pytest.approx(4.0, rel=0.01)           # shrinks like dt²
 
 
+def test_orbit_error_panel():
+    masses, y0, T = nb06.two_body_circular(M=1.0, m=0.01, r=1.0, G=1.0)
+    system = cl.newtonian(cl.forces.nbody_gravity(masses, G=1.0), masses)
+    orbit = cl.integrate(system, y0, (0.0, 5 * T), T / 2000, "velocity_verlet")
+    sep = orbit.y[:, 0, 1] - orbit.y[:, 0, 0]
+    lag = 2 * np.pi * orbit.t / T - np.unwrap(np.arctan2(sep[:, 1], sep[:, 0]))
+    radius_err = np.abs(np.linalg.norm(sep, axis=1) - 1.0)
+    T_meas = events.measured_period(orbit.t, sep[:, 1])
+    assert f"{lag[-1]:.2e}" == "1.03e-04" and f"{radius_err.max():.1e}" == "4.9e-06"
+    assert lag[-1] == pytest.approx(2 * np.pi * 5 * (T_meas / T - 1), rel=1e-6)   # "exactly"
+    assert round(lag[-1], 5) == 0.0001 and radius_err.max() < 5e-6
+    # the lag grows steadily; the radius error does not drift
+    assert lag[len(lag) // 2] == pytest.approx(lag[-1] / 2, rel=0.05)
+    half = len(radius_err) // 2
+    assert radius_err[half:].max() == pytest.approx(radius_err[:half].max(), rel=0.02)
+
+
 def test_cluster_conservation():
     m, y0 = nb06.cluster(n=8, seed=2026)
     assert m.sum() == pytest.approx(1.0)
@@ -122,6 +139,45 @@ def test_drag_printed_errors_and_verlet_order():
     assert err_fe / err_vv == pytest.approx(2.0, rel=0.05)
     _, _, err_vv_half = run("velocity_verlet", dt / 2)
     assert err_vv / err_vv_half == pytest.approx(2.0, rel=0.05)
+
+
+def test_quadratic_drag():
+    m, c, g = 1.0, 0.05, G
+    v_t = np.sqrt(m * g / c)
+    assert round(v_t, 2) == 14.01 and round(v_t / g, 2) == 1.43 and round(v_t / g, 3) == 1.428
+    faller = cl.newtonian(cl.systems.sum_forces(cl.forces.constant_gravity(m, g=[0.0, -g]),
+                                                cl.forces.drag(c=c)), m)
+    start = cl.stack_state([[0.0, 0.0]], [[0.0, 0.0]])
+    printed = {"forward_euler": (-14.0059, "4.8e-01"), "rk4": (-14.0009, "2.3e-04")}
+    for meth, (v6, err_s) in printed.items():
+        tr = cl.integrate(faller, start, (0.0, 6.0), 0.25, meth)
+        err = np.abs(tr.y[:, 1, 0, 1] - nb06.quadratic_drag_velocity(tr.t, m, c, g)).max()
+        assert round(tr.y[-1, 1, 0, 1], 4) == v6 and f"{err:.1e}" == err_s
+    assert round(float(nb06.quadratic_drag_velocity(6.0, m, c, g)), 4) == -14.0009
+    # the exact solution solves m v' = -m g + c v²
+    t = np.linspace(0, 5, 11)
+    h = 1e-6
+    v = nb06.quadratic_drag_velocity(t, m, c, g)
+    dv = (nb06.quadratic_drag_velocity(t + h, m, c, g)
+          - nb06.quadratic_drag_velocity(t - h, m, c, g)) / (2 * h)
+    assert np.allclose(m * dv, -m * g + c * v**2, atol=1e-6)
+    # at 14 m/s quadratic drag is about the weight, 9.8 N; linear drag b = 0.5 would be 7 N
+    assert round(c * 14.0**2, 1) == 9.8 and 0.5 * 14.0 == 7.0
+
+
+def test_static_friction():
+    mu = 0.5
+    assert round(mu * 1.0 * G, 3) == 4.905
+    held = nb06.pushed_puck(3.0, mu)
+    assert np.all(held.y[1:, 1, 0, 0] == 0.0)                     # never slides
+    assert held.y[-1, 0, 0, 0] == pytest.approx(3.0 * 1e-3 * 1.0, rel=1e-9)   # creep F dt T / m
+    assert round(held.y[-1, 0, 0, 0] * 1000, 1) == 3.0
+    finer = nb06.pushed_puck(3.0, mu, dt=5e-4)
+    assert finer.y[-1, 0, 0, 0] == pytest.approx(held.y[-1, 0, 0, 0] / 2, rel=1e-9)   # halves
+    sliding = nb06.pushed_puck(6.0, mu)
+    assert sliding.y[-1, 1, 0, 0] == pytest.approx(6.0 - mu * G, rel=1e-9)
+    assert round(6.0 - mu * G, 3) == 1.095 and round(sliding.y[-1, 0, 0, 0] * 1000, 1) == 553.0
+    assert np.allclose(np.diff(sliding.y[:, 1, 0, 0]), (6.0 - mu * G) * 1e-3, atol=1e-12)
 
 
 def test_wind_exact_solution():
@@ -209,6 +265,32 @@ def test_helix():
     assert np.allclose(vperp[1:] / vperp[:-1], np.sqrt(1 + 0.02**2), rtol=1e-13)
 
 
+def test_steering_in_the_wind():
+    from scipy.optimize import brentq
+
+    def balance(r):
+        return 2.0 * r / (r**2 + 0.09) ** 1.5 - 1.0
+
+    r_catch, r_rest = brentq(balance, 0.5, 3.0), brentq(balance, 1e-4, 0.3)
+    assert round(r_catch, 2) == 1.37 and round(r_rest * 100, 2) == 1.35
+    four = nb06.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=-1.0, t_end=4.0)
+    dist = np.linalg.norm(four.x[-1] - four.center, axis=1)
+    caught = dist < 0.3
+    speed = np.linalg.norm(four.x[-1] - four.x[-2], axis=1) / 0.02
+    assert caught.sum() == 25 and round(dist[caught].max() * 100, 1) == 27.7
+    assert round(speed[caught].max(), 2) == 1.16                   # "up to 1.2 m/s": not settled
+    start = np.linalg.norm(four.x[0] - four.center, axis=1)
+    assert start[caught].max() < 1.41 and start[~caught].min() > r_catch - 0.01   # "about 1.4 m"
+    assert np.all(four.x[-1][~caught][:, 0] < four.center[0])      # blown downstream (-x)
+    twenty = nb06.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=-1.0, t_end=20.0)
+    dist = np.linalg.norm(twenty.x[-1] - twenty.center, axis=1)
+    caught = dist < 0.3
+    assert caught.sum() == 27 and round(dist[caught].max() * 100, 1) == 1.4
+    offset = (twenty.x[-1][caught] - twenty.center).mean(axis=0)
+    assert round(offset[0] * 100, 2) == -1.36 and abs(offset[1]) < 1e-4
+    assert offset[0] == pytest.approx(-r_rest, rel=0.01)           # the balance point
+
+
 def test_steering_widget_and_pure_function():
     still = nb06.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=0.0)
     assert np.allclose(np.round(still.centroid, 2), [0.99, 0.50])
@@ -217,7 +299,7 @@ def test_steering_widget_and_pure_function():
     again = nb06.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=-1.0)
     assert np.array_equal(again.x, windy.x)                        # pure and seeded
     view = nb06.steering_view(cx=1.0, cy=0.5)
-    assert np.allclose(view.result.center, [1.0, 0.5])
+    assert np.allclose(view.result.center, [1.0, 0.5]) and "updated in" in view.status.value
     view.controls["cx"].value = -1.5
     assert np.allclose(view.result.center, [-1.5, 0.5])
     assert view.result.centroid[0] < -1.0                           # the swarm followed
@@ -250,22 +332,137 @@ def test_check_drag_force(capsys):
     assert _status("drag_force") == "pending"
 
 
-def test_check_terminal_velocity(capsys):
-    check.terminal_velocity(lambda m, g, b: m * g / b)
-    assert _status("terminal_velocity") == "correct"
-    check.terminal_velocity(lambda m, g, b: g / b)
-    assert _status("terminal_velocity") == "incorrect"
+def _main(func):
+    func.__module__ = "__main__"            # as if written in the notebook
+    return func
+
+
+def _terminal(m, g, b, c):
+    return 2 * m * g / (b + np.sqrt(b * b + 4 * c * m * g))
+
+
+def test_check_terminal_speed(capsys):
+    check.terminal_speed(_terminal)
+    assert _status("terminal_speed") == "correct"
+    check.terminal_speed(lambda m, g, b, c: np.float32(_terminal(m, g, b, c)))
+    assert _status("terminal_speed") == "correct"
+    capsys.readouterr()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        check.terminal_speed(lambda m, g, b, c: (-b + np.sqrt(b * b + 4 * c * m * g)) / (2 * c))
+    assert _status("terminal_speed") == "incorrect"
+    assert "write the root as 2 m g / (b + √(b² + 4 c m g))" in capsys.readouterr().out
+    check.terminal_speed(lambda m, g, b, c: m * g / b if b else np.sqrt(m * g / c))
+    assert "linear drag alone" in capsys.readouterr().out
+    check.terminal_speed(lambda m, g, b, c: np.sqrt(m * g / c) if c else m * g / b)
+    assert "quadratic drag alone" in capsys.readouterr().out
+    check.terminal_speed(lambda m, g, b, c: _terminal(1.0, g, b, c))
     assert "forgot the mass" in capsys.readouterr().out
-    check.terminal_velocity(_stub)
-    assert _status("terminal_velocity") == "pending"
+    check.terminal_speed(_stub)
+    assert _status("terminal_speed") == "pending"
 
 
 def test_check_circular_speed(capsys):
     check.circular_speed(lambda G_, M, r: np.sqrt(G_ * M / r))
     assert _status("circular_speed") == "correct"
+    check.circular_speed(lambda G_, M, r: np.float32(np.sqrt(G_ * M / r)))   # float32 is right
+    assert _status("circular_speed") == "correct"
+    capsys.readouterr()
     check.circular_speed(lambda G_, M, r: np.sqrt(2 * G_ * M / r))
     assert _status("circular_speed") == "incorrect"
     out = capsys.readouterr().out
     assert "escape speed" in out and "misses its start" in out
     check.circular_speed(_stub)
     assert _status("circular_speed") == "pending"
+
+
+def _nbody(x, m, G_, eps):
+    r = x[:, None, :] - x[None, :, :]
+    d2 = np.sum(r * r, axis=-1) + eps**2
+    np.fill_diagonal(d2, np.inf)
+    return -G_ * m[:, None] * np.einsum("ij,ijk->ik", m[None, :] / d2**1.5, r)
+
+
+def test_check_nbody_force(capsys):
+    check.nbody_force(_nbody)
+    assert _status("nbody_force") == "correct"
+    check.nbody_force(lambda *a: _nbody(*a).astype(np.float32))
+    assert _status("nbody_force") == "correct"
+    capsys.readouterr()
+
+    def with_self(x, m, G_, eps):
+        r = x[:, None, :] - x[None, :, :]
+        d2 = np.sum(r * r, axis=-1) + eps**2
+        return -G_ * m[:, None] * np.einsum("ij,ijk->ik", m[None, :] / d2**1.5, r)
+
+    def looped(x, m, G_, eps):
+        F = np.zeros(np.shape(x))
+        for i in range(len(x)):
+            for j in range(len(x)):
+                if i != j:
+                    r = x[i] - x[j]
+                    F[i] -= G_ * m[i] * m[j] * r / (r @ r + eps**2) ** 1.5
+        return F
+
+    def unsquared(x, m, G_, eps):
+        return _nbody(x, m, G_, np.sqrt(eps))
+
+    def acceleration(x, m, G_, eps):
+        return _nbody(x, m, G_, eps) / m[:, None]
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for answer, hint in [(with_self, "0/0 gives NaN"), (looped, "loops over the bodies"),
+                             (unsquared, "soften with the square"),
+                             (acceleration, "that is the acceleration"),
+                             (lambda *a: -_nbody(*a), "pulls body i TOWARDS j")]:
+            check.nbody_force(answer)
+            assert _status("nbody_force") == "incorrect"
+            assert hint in capsys.readouterr().out, hint
+    check.nbody_force(_main(lambda x, m, G_, eps: cl.forces.nbody_gravity_force(x, m, G_, eps)))
+    assert "uses the reference" in capsys.readouterr().out
+    check.nbody_force(_stub)
+    assert _status("nbody_force") == "pending"
+
+
+def _bounce(y, e, mu, clamp=True, only_approaching=True, project=True):
+    x, v = y[0].copy(), y[1].copy()
+    below = x[:, 1] < 0
+    if project:
+        x[below, 1] = 0.0
+    vn = v[:, 1].copy()
+    hit = below & (vn < 0) if only_approaching else below
+    vt = v.copy()
+    vt[:, 1] = 0.0
+    speed_t = np.linalg.norm(vt, axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = 1 - mu * (1 + e) * np.abs(vn) / speed_t
+    scale = np.where(speed_t > 0, np.maximum(0.0, scale) if clamp else scale, 0.0)
+    new_v = scale[:, None] * vt
+    new_v[:, 1] = -e * vn
+    v[hit] = new_v[hit]
+    return np.stack((x, v))
+
+
+def test_check_bounce(capsys):
+    check.bounce(_bounce)
+    assert _status("bounce") == "correct"
+    check.bounce(lambda y, e, mu: _bounce(y, e, mu).astype(np.float32))
+    assert _status("bounce") == "correct"
+    capsys.readouterr()
+    for answer, hint in [(lambda y, e, mu: _bounce(y, e, mu, clamp=False), "never reverse it"),
+                         (lambda y, e, mu: _bounce(y, e, mu, only_approaching=False),
+                          "already moving up"),
+                         (lambda y, e, mu: _bounce(y, e, mu, project=False), "back to the surface")]:
+        check.bounce(answer)
+        assert _status("bounce") == "incorrect"
+        assert hint in capsys.readouterr().out, hint
+
+    def mu_only(y, e, mu):                 # friction from |v_n| instead of (1 + e)|v_n|
+        return _bounce(y, e, mu / (1 + e)) if e < 1 else _bounce(y, e, mu)
+
+    check.bounce(mu_only)
+    assert "(1 + e)|v_n|" in capsys.readouterr().out
+    check.bounce(_main(lambda y, e, mu: cl.collisions.plane(normal=np.eye(y.shape[-1])[1],
+                                                            restitution=e, friction=mu)(0.0, y)))
+    assert "uses the reference" in capsys.readouterr().out
+    check.bounce(_stub)
+    assert _status("bounce") == "pending"

@@ -1,54 +1,83 @@
-"""Checks for notebook 06, forces."""
+"""Checks for notebook 06, forces.
+
+Every exercise names the course_lib functions it must not call (``@exercise(reference=...)``,
+see :mod:`course_lib.instructor.policy`): an answer that calls them earns nothing.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
-from .. import forces
+from .. import collisions, forces
 from ..integrators import integrate
 from ..systems import newtonian, stack_state
 from . import Checker, exercise
+from .tolerance import blown_up, precision_rtol
 
 
-@exercise
+@exercise(reference=(forces.linear_drag_force, forces.drag))
 def drag_force(ck: Checker, drag) -> None:
     """``drag(v, b, wind)``: linear drag ``-b (v - wind)`` on velocities ``(N, d)``."""
     rng = np.random.default_rng(6)
     v = rng.normal(size=(4, 3))
     for b, wind, what in [(0.5, np.zeros(3), "four particles, b = 0.5, still air"),
                           (2.0, np.array([3.0, 0.0, -1.0]), "b = 2, wind (3, 0, -1) m/s")]:
-        ck.close(drag(v.copy(), b, wind.copy()), forces.linear_drag_force(v, b, wind), what,
+        got = drag(v.copy(), b, wind.copy())
+        ck.close(got, forces.linear_drag_force(v, b, wind), what, rtol=precision_rtol(got, 1e-9),
                  mistakes={
                      "sign error: drag opposes the motion relative to the air, F = -b (v - w)":
                          b * (v - wind),
                      "you forgot the wind: drag acts on the velocity relative to the air, "
                      "v - wind": -b * v,
                      "the relative velocity is v - wind, not v + wind": -b * (v + wind),
+                     "drag acts on every component of v - wind, a vector, not on its length":
+                         -b * np.linalg.norm(v - wind, axis=1, keepdims=True) * np.ones(3),
                  }, hint="F = -b (v - wind)")
     ck.close(drag(np.tile([1.0, 0.0], (2, 1)), 1.0, np.array([1.0, 0.0])), np.zeros((2, 2)),
              "moving with the wind: no drag")
 
 
-@exercise
-def terminal_velocity(ck: Checker, vt) -> None:
-    """``vt(m, g, b)``: the speed at which linear drag balances gravity, ``m g / b``."""
-    for m, g, b in [(1.0, 9.81, 0.5), (0.2, 9.81, 0.05), (3.0, 1.62, 1.5)]:
-        ck.close(vt(m, g, b), m * g / b, f"m = {m} kg, g = {g} m/s², b = {b} kg/s", mistakes={
-            "you forgot the mass: the weight is m g": g / b,
-            "drag b v balances the weight m g, so divide by b": m * g * b,
-            "upside down: v = m g / b": b / (m * g),
-        }, hint="at terminal velocity the net force is zero: b v = m g")
+@exercise(reference=(forces.drag, forces.quadratic_drag_force))
+def terminal_speed(ck: Checker, speed) -> None:
+    """``speed(m, g, b, c)``: the speed at which ``b v + c v²`` balances the weight ``m g``."""
+    for m, g, b, c in [(1.0, 9.81, 0.5, 0.05), (0.2, 9.81, 0.05, 0.0), (3.0, 1.62, 0.0, 0.2),
+                       (0.01, 9.81, 1e-3, 1e-4), (70.0, 9.81, 1e-4, 0.25)]:
+        what = f"m = {m} kg, g = {g} m/s², b = {b} kg/s, c = {c} kg/m"
+        got = speed(m, g, b, c)
+        exact = 2 * m * g / (b + np.sqrt(b * b + 4 * c * m * g))
+        if blown_up(ck, got, what, run=False, hint="with c = 0 (or b = 0) a formula with c (or b) "
+                    "in a denominator fails: write the root as 2 m g / (b + √(b² + 4 c m g))"):
+            continue
+        mistakes = {
+            "the other root of c v² + b v - m g = 0 is negative: take the positive one":
+                -(b + np.sqrt(b * b + 4 * c * m * g)) / (2 * c) if c else np.nan,
+            "you forgot the mass: the weight is m g": 2 * g / (b + np.sqrt(b * b + 4 * c * g)),
+        }
+        if c:
+            mistakes["that is the quadratic drag alone, √(m g / c); the linear drag b v adds to "
+                     "it"] = np.sqrt(m * g / c)
+        if b:
+            mistakes["that is the linear drag alone, m g / b; the quadratic drag c v² adds to "
+                     "it"] = m * g / b
+        ck.close(got, exact, what, rtol=precision_rtol(got, 1e-9), mistakes=mistakes,
+                 hint="at terminal speed the net force is zero: b v + c v² = m g; solve for v > 0")
 
 
 @exercise
 def circular_speed(ck: Checker, speed) -> None:
     """``speed(G, M, r)``: speed of a circular orbit of radius r about a mass M, ``sqrt(GM/r)``."""
     for G, M, r in [(1.0, 1.0, 1.0), (1.0, 4.0, 2.0), (6.674e-11, 5.972e24, 6.771e6)]:
-        ck.close(speed(G, M, r), np.sqrt(G * M / r), f"G = {G:g}, M = {M:g}, r = {r:g}",
-                 rtol=1e-9, mistakes={
+        got = speed(G, M, r)
+        if blown_up(ck, got, f"G = {G:g}, M = {M:g}, r = {r:g}", run=False):
+            continue
+        ck.close(got, np.sqrt(G * M / r), f"G = {G:g}, M = {M:g}, r = {r:g}",
+                 rtol=precision_rtol(got, 1e-9), mistakes={
                      "take the square root: v² / r = G M / r²": G * M / r,
                      "sqrt(2 G M / r) is the escape speed, not the circular one":
                          np.sqrt(2 * G * M / r),
+                     "the centripetal acceleration is v² / r, so v = √(G M / r), not G M / r²":
+                         G * M / r**2,
+                     "upside down: v = √(G M / r)": np.sqrt(r / (G * M)),
                  }, hint="the centripetal acceleration v²/r equals the gravitational G M / r²")
     # Does the orbit close? Fly a test mass around a fixed centre for one Kepler period.
     G, M, r = 1.0, 4.0, 2.0
@@ -56,7 +85,155 @@ def circular_speed(ck: Checker, speed) -> None:
     period = 2 * np.pi * np.sqrt(r**3 / (G * M))
     pull = newtonian(forces.attractor((0.0, 0.0), G * M, softening=0.0), mass=1.0)
     y0 = stack_state([[r, 0.0]], [[0.0, v]])
-    traj = integrate(pull, y0, (0.0, period), period / 2000, "rk4")
+    traj = integrate(pull, y0, (0.0, period), period / 2000, "rk4", blowup_bound=1e3)
+    if not traj.stable:
+        ck.expect(False, "the orbit closes after one period 2π sqrt(r³/GM)",
+                  f"your test body escaped: {traj.message}")
+        return
     gap = float(np.linalg.norm(traj.y[-1, 0, 0] - y0[0, 0]))
     ck.expect(gap < 1e-6 * r, "the orbit closes after one period 2π sqrt(r³/GM)",
               f"it misses its start by {gap:.3g} m")
+
+
+class _Bodies(np.ndarray):
+    """Positions that notice being taken apart one body at a time (a Python loop)."""
+
+    looped = False
+
+    def __iter__(self):
+        _Bodies.looped = True
+        return super().__iter__()
+
+    def __getitem__(self, key):
+        if isinstance(key, int | np.integer) or (
+                isinstance(key, tuple) and key and isinstance(key[0], int | np.integer)):
+            _Bodies.looped = True
+        return super().__getitem__(key)
+
+
+def _nbody_cases():
+    rng = np.random.default_rng(66)
+    yield "5 bodies in 2D, G = 1, softening 0.1", rng.normal(size=(5, 2)), rng.uniform(0.5, 2, 5), 1.0, 0.1
+    yield ("7 bodies in 3D, G = 6.674e-11, no softening", rng.normal(size=(7, 3)) * 1e3,
+           rng.uniform(1e10, 1e12, 7), 6.674e-11, 0.0)
+    x = rng.normal(size=(4, 2))
+    x[3] = x[0]                                      # two bodies at the same point
+    yield "4 bodies in 2D, two of them at one point, softening 0.5", x, np.ones(4), 2.0, 0.5
+
+
+def _nbody_mistakes(x, m, G, eps, expected) -> dict:
+    r = x[:, None, :] - x[None, :, :]
+    d2 = np.sum(r * r, axis=-1)
+    np.fill_diagonal(d2, np.inf)
+
+    def pairs(den, weight=m[:, None] * m[None, :]):
+        return -G * np.einsum("ij,ijk->ik", weight / den, r)
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {
+            "sign error: gravity pulls body i TOWARDS j, along x_j - x_i": -expected,
+            "that is the acceleration; the force is m_i times it": expected / m[:, None],
+            "each pair's force is G m_i m_j ...: you left out m_j":
+                pairs((d2 + eps**2) ** 1.5, m[:, None] * np.ones_like(d2)),
+            "soften with the square: (|r|² + ε²)^{3/2}, not (|r|² + ε)^{3/2}":
+                pairs((d2 + eps) ** 1.5),
+            "soften inside: (|r|² + ε²)^{3/2}, not (|r| + ε)³": pairs((np.sqrt(d2) + eps) ** 3),
+            "soften inside: (|r|² + ε²)^{3/2}, not |r|³ + ε³": pairs(d2**1.5 + eps**3),
+            "r_ij/|r|³ is the inverse-square law; dividing r_ij by |r|² gives 1/r":
+                pairs(d2 + eps**2),
+            "you left out the softening ε": pairs(d2**1.5),
+        }
+
+
+@exercise(reference=(forces.nbody_gravity_force, forces.nbody_gravity))
+def nbody_force(ck: Checker, func) -> None:
+    """``func(x, mass, G, softening)``: softened gravity of every body on every other."""
+    for what, x, m, G, eps in _nbody_cases():
+        expected = forces.nbody_gravity_force(x, m, G, eps)
+        _Bodies.looped = False
+        got = func(x.view(_Bodies), m.copy(), G, eps)
+        if _Bodies.looped:
+            ck.expect(False, what, "your function loops over the bodies one at a time",
+                      hint="broadcast: r = x[:, None, :] - x[None, :, :] holds every pair at "
+                           "once, shape (N, N, d)")
+            continue
+        got = np.asarray(got)
+        if blown_up(ck, got, what, run=False):
+            continue
+        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9),
+                 atol=1e-12 * float(np.abs(expected).max()),
+                 mistakes=_nbody_mistakes(x, m, G, eps, expected),
+                 hint="F_i = -G m_i Σ_j m_j (x_i - x_j) / (|x_i - x_j|² + ε²)^{3/2}, j ≠ i")
+        if got.shape == expected.shape:
+            ck.close(got.sum(axis=0), np.zeros(x.shape[1]), f"{what}: the forces sum to zero",
+                     atol=1e-9 * float(np.abs(expected).sum()) + precision_rtol(got, 0.0),
+                     hint="each pair must push both bodies equally and oppositely")
+
+
+def _ground_states():
+    rng = np.random.default_rng(606)
+    x = rng.normal(size=(12, 2))
+    v = 2.0 * rng.normal(size=(12, 2))
+    x[:3, 1] = np.abs(x[:3, 1]) + 0.1           # above the ground
+    x[3:, 1] = -np.abs(x[3:, 1]) * 0.1 - 0.01    # below it
+    v[3:6, 1] = np.abs(v[3:6, 1]) + 0.1          # below but already moving up
+    v[6:9, 1] = -np.abs(v[6:9, 1]) - 0.1         # below and moving down
+    v[6:9, 0] = 0.05 * np.sign(v[6:9, 0])        # slow sideways: friction stops them
+    v[9:, 1] = -np.abs(v[9:, 1]) - 0.1           # below, down, fast sideways
+    yield "12 particles in 2D, e = 0.6, μ = 0.4", stack_state(x, v), 0.6, 0.4
+    x3, v3 = rng.normal(size=(8, 3)), rng.normal(size=(8, 3))
+    x3[:, 1] = -0.01 - 0.1 * np.abs(x3[:, 1])
+    v3[:, 1] = -np.abs(v3[:, 1])
+    yield "8 particles in 3D, all hitting, e = 0.3, μ = 0.2", stack_state(x3, v3), 0.3, 0.2
+    yield "same, e = 1 and μ = 0 (a perfect bounce)", stack_state(x3, v3), 1.0, 0.0
+
+
+def _bounce_mistakes(y, e, mu, expected) -> dict:
+    x, v = y[0], y[1]
+    normal = np.eye(x.shape[-1])[1]
+    below = x[:, 1] < 0
+    vn = v[:, 1]
+    vt = v * (1 - normal)
+    speed_t = np.linalg.norm(vt, axis=1, keepdims=True)
+    approaching = below & (vn < 0)
+
+    def respond(scale, hit, normal_v):
+        out = v.copy()
+        out[hit] = (scale * vt + normal_v[:, None] * normal)[hit]
+        return np.stack((np.where(below[:, None], x * (1 - normal), x), out))
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        drop = mu * (1 + e) * np.abs(vn)[:, None] / speed_t
+        clamp = np.maximum(0.0, 1 - drop)
+        return {
+            "friction can stop the sliding but never reverse it: clamp the tangential "
+            "scale at 0": respond(1 - drop, approaching, -e * vn),
+            "only a particle moving INTO the ground bounces; one already moving up "
+            "keeps its velocity": respond(clamp, below, -e * vn),
+            "move penetrating particles back to the surface (y = 0)": np.stack((x, expected[1])),
+            "friction takes μ times the change of the normal speed, (1 + e)|v_n|, not μ|v_n|":
+                respond(np.maximum(0.0, 1 - mu * np.abs(vn)[:, None] / speed_t), approaching,
+                        -e * vn),
+            "restitution scales the normal velocity only; friction handles the tangential "
+            "part": respond(e * clamp, approaching, -e * vn),
+            "Coulomb friction removes speed, μ (1 + e) |v_n|, from the tangential velocity; "
+            "scaling it by (1 - μ) is a different law":
+                respond(np.full_like(drop, 1 - mu), approaching, -e * vn),
+            "sign: after the bounce the normal velocity points up, v_n' = -e v_n":
+                respond(clamp, approaching, e * vn),
+        }
+
+
+@exercise(reference=(collisions.plane, collisions.sphere))
+def bounce(ck: Checker, func) -> None:
+    """``func(y, restitution, friction)``: contact response with the ground ``y >= 0``."""
+    for what, y, e, mu in _ground_states():
+        normal = np.eye(y.shape[-1])[1]
+        expected = collisions.plane(normal=normal, restitution=e, friction=mu)(0.0, y)
+        got = func(y.copy(), e, mu)
+        if blown_up(ck, got, what, run=False):
+            continue
+        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12,
+                 mistakes=_bounce_mistakes(y, e, mu, expected),
+                 hint="for particles below y = 0: set y = 0; if v_n < 0: v_n → -e v_n and "
+                      "|v_t| → max(0, |v_t| - μ (1 + e) |v_n|)")

@@ -33,11 +33,12 @@ def precision_rtol(answer, rtol: float) -> float:
     return rtol
 
 
-def blown_up(ck: Checker, answer, what: str, *, run: bool = True) -> bool:
+def blown_up(ck: Checker, answer, what: str, *, run: bool = True, hint: str | None = None) -> bool:
     """Record a failed case when ``answer`` holds NaN or inf, and return True then.
 
     ``run=True`` words it for a simulation (rows are steps: "your run blew up from step
     k on"); ``run=False`` for a computed value ("your function returned NaN or inf").
+    ``hint`` replaces the generic hint.
     """
     try:
         a = np.asarray(answer, dtype=float)
@@ -47,12 +48,12 @@ def blown_up(ck: Checker, answer, what: str, *, run: bool = True) -> bool:
         return False
     if not run or a.ndim == 0:
         ck.expect(False, what, "your function returned NaN or inf",
-                  hint="look for a division by zero (0/0 gives NaN, e.g. a particle's "
-                       "distance to itself) or an overflow")
+                  hint=hint or "look for a division by zero (0/0 gives NaN, e.g. a particle's "
+                               "distance to itself) or an overflow")
         return True
     rows = np.isfinite(a.reshape(a.shape[0], -1)).all(axis=1)
     step = int(np.argmin(rows))
     ck.expect(False, what, f"your run blew up: its values are NaN or inf from step {step} on",
-              hint="a run that explodes usually has a sign error in the update, or uses "
-                   "an acceleration or time from the wrong point of the step")
+              hint=hint or "a run that explodes usually has a sign error in the update, or "
+                           "uses an acceleration or time from the wrong point of the step")
     return True

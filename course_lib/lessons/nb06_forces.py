@@ -36,6 +36,27 @@ def linear_drag_exact(t, x0, v0, m: float, b: float, g=(0.0, -G_STD), wind=(0.0,
     return x0 + v_inf * t + (v0 - v_inf) * tau * (1 - decay), v_inf + (v0 - v_inf) * decay
 
 
+def quadratic_drag_velocity(t, m: float, c: float, g: float = G_STD):
+    """Exact velocity (m/s, negative: downwards) of a mass ``m`` dropped from rest under
+    gravity with quadratic drag ``-c |v| v``: ``-v_T tanh(g t / v_T)``, ``v_T = √(m g / c)``."""
+    v_t = np.sqrt(m * g / c)
+    return -v_t * np.tanh(g * np.asarray(t, dtype=float) / v_t)
+
+
+def pushed_puck(push: float, mu: float, m: float = 1.0, g: float = G_STD, dt: float = 1e-3,
+                t_end: float = 1.0) -> Trajectory:
+    """A puck at rest on the ground pushed sideways by a constant force ``push`` (N), with
+    Coulomb friction ``mu`` handled by the post-step ground response
+    (:func:`course_lib.collisions.plane`), stepped by symplectic Euler."""
+    def shove(t, x, v):
+        return np.broadcast_to([push, 0.0], x.shape).copy()
+
+    puck = newtonian(sum_forces(forces.constant_gravity(m, g=[0.0, -g]), shove), m)
+    ground = collisions.plane(normal=(0.0, 1.0), restitution=0.0, friction=mu)
+    return integrate(puck, stack_state([[0.0, 0.0]], [[0.0, 0.0]]), (0.0, t_end), dt,
+                     "symplectic_euler", post_step=ground)
+
+
 # --- notebook 06: gravity -----------------------------------------------------------------
 
 
@@ -191,7 +212,8 @@ def steering_view(**initial):
     """The widget: sliders for the attractor's position and strength and the wind."""
     import ipywidgets as w
 
-    from ..widgets import ExplorerView, log_slider
+    from ..widgets import log_slider
+    from .busy_view import BusyExplorerView
 
     p = {"cx": 0.0, "cy": 0.0, "strength": 1.0, "wind": 0.0, **initial}
     style = {"description_width": "initial"}
@@ -204,4 +226,4 @@ def steering_view(**initial):
         "wind": w.FloatSlider(value=p["wind"], min=-3, max=3, step=0.1, description="wind (m/s)",
                               continuous_update=False, style=style),
     }
-    return ExplorerView(steer_swarm, draw_swarm, controls)
+    return BusyExplorerView(steer_swarm, draw_swarm, controls)
