@@ -92,7 +92,7 @@ def machine() -> str:
     return (f"{cpu}, {os.cpu_count()} cores; Python {platform.python_version()}, "
             f"NumPy {numpy.__version__}, SciPy {scipy.__version__}, {numba}; "
             f"BLAS threads {os.environ.get('OPENBLAS_NUM_THREADS')}. Computations: CPU time "
-            f"of the benchmark thread; widgets and notebooks: wall time")
+            f"of the benchmark thread; widgets and notebooks: CPU time too (wall time in the notes)")
 
 
 def table(rows) -> str:

@@ -35,6 +35,6 @@ def run() -> list[Result]:
     def change_alignment() -> None:        # alternate so that every assignment is a change
         view.controls["alignment"].value = next(values)
 
-    results.append(Result("flocking widget: one update (150 boids, 100 steps, redraw)",
+    results.append(Result("flocking widget: one update (150 boids, 75 steps, redraw)",
                           median_time(change_alignment, repeat=7), 0.100))
     return results
