@@ -326,3 +326,13 @@ def test_check_powers_stay_bounded(capsys):
     assert "expected True or False" in capsys.readouterr().out
     check.powers_stay_bounded(_pending)
     assert _status("powers_stay_bounded") == "pending"
+
+
+def test_kernel_free_player_quoted():
+    # "eleven steps of forward Euler on the decay, from dt = 0.05 s to 4 s"
+    from course_lib.lessons import kernel_free
+
+    assert len(kernel_free.STABILITY_DTS) == 11
+    assert min(kernel_free.STABILITY_DTS) == 0.05 and max(kernel_free.STABILITY_DTS) == 4.0
+    assert any(dt < 2.0 < nxt for dt, nxt in zip(kernel_free.STABILITY_DTS,
+                                                  kernel_free.STABILITY_DTS[1:]))
