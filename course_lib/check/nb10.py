@@ -105,7 +105,7 @@ def flock_breaker(ck: Checker, func) -> None:
         return
     weight, reason = (str(a).strip().lower() for a in answer)
     hints = {
-        "alignment": "without alignment the headings stay random (polarization near 0.04), but "
+        "alignment": "without alignment the headings stay random (polarization near 0.1), but "
                      "the boids keep their distance: nothing piles up",
         "cohesion": "without cohesion nothing pulls the boids together: their spacing grows "
                     "(1.2 m in the key states), the opposite of piling up",
@@ -116,8 +116,8 @@ def flock_breaker(ck: Checker, func) -> None:
     ck.expect(weight == "separation", "the weight whose absence piles the boids up",
               f"you chose {weight}", hint=hints.get(weight))
     why = {
-        "b": "boids piling up on a few points is not chance: the same boids stay together, "
-             "and they fly aligned (polarization near 0.5, not 0.04)",
+        "b": "boids piling up on a few points is not chance: the same boids stay together "
+             "in groups that fly aligned, which chance collisions would not do",
         "c": "the speed limits only clamp |v| to [1, 2] m/s: they never stop a boid",
         "d": "parallel boids keep their distance for ever; something must pull them together",
     }

@@ -57,14 +57,16 @@ class FlockPlot:
         ax1.text(0.01, 0.9, "dashed: random headings", transform=ax1.transAxes, fontsize=8)
         ax1.set(ylabel="polarization", ylim=(0, 1.02), xlim=(0, t_end))
         ax1.tick_params(labelbottom=False)
-        ax2 = fig.add_subplot(grid[1, 1], sharex=ax1)
+        ax2 = fig.add_subplot(grid[1, 1])          # not shared: sharing costs a layout pass
         (self.nn,) = ax2.plot([], [], color="C2")
         self.nn_ref = ax2.axhline(0.0, **EXACT_STYLE)
         ax2.text(0.01, 0.08, "dashed: random positions", transform=ax2.transAxes, fontsize=8)
-        ax2.set(xlabel="t (s)", ylabel="nearest neighbour (m)", ylim=(0, 1.5))
-        for a in (ax, ax1, ax2):
-            a.xaxis.set_major_locator(MaxNLocator(4))
-            a.yaxis.set_major_locator(MaxNLocator(4))
+        ax2.set(xlabel="t (s)", ylabel="nearest neighbour (m)", ylim=(0, 1.5), xlim=(0, t_end))
+        ax.set_xticks([0, box / 2, box])
+        ax.set_yticks([0, box / 2, box])
+        for a in (ax1, ax2):                      # few tick labels: text is most of a redraw
+            a.xaxis.set_major_locator(MaxNLocator(3))
+            a.yaxis.set_major_locator(MaxNLocator(3))
         self.title = fig.suptitle("", fontsize=10)
         self.fig = fig
 

@@ -19,8 +19,8 @@ import numpy as np
 from .. import boids
 from ..boids import Rules
 
-#: The notebook's flock: 150 boids in a periodic 20 m square, 100 steps of 0.15 s.
-N_BOIDS, BOX, DT, STEPS = 150, 20.0, 0.15, 100
+#: The notebook's flock: 150 boids in a periodic 20 m square, 75 steps of 0.2 s.
+N_BOIDS, BOX, DT, STEPS = 150, 20.0, 0.2, 75
 
 
 @dataclass
@@ -97,7 +97,7 @@ class ChaseRun:
 
 
 def chase(flee_strength: float = 3.0, flee_radius: float = 3.0, predator_speed: float = 1.8,
-          warmup: int = 150, steps: int = 100, seed: int = 2026) -> ChaseRun:
+          warmup: int = 100, steps: int = 75, seed: int = 2026) -> ChaseRun:
     """A predator enters a formed flock and heads for the nearest boid at
     ``predator_speed`` (m/s, between the boids' cruising and top speeds); boids within
     ``flee_radius`` (m)
@@ -161,6 +161,6 @@ def flock_explorer(separation: float = 0.3, alignment: float = 2.0, cohesion: fl
                              continuous_update=False, style={"description_width": "initial"})
 
     controls = {"separation": slider("separation (m²/s²)", separation, 5.0),
-                "alignment": slider("alignment (1/s)", alignment, 5.0),
+                "alignment": slider("alignment (1/s)", alignment, 10.0),
                 "cohesion": slider("cohesion (1/s²)", cohesion, 3.0)}
     return ExplorerView(run_flock, FlockPlot(N_BOIDS, BOX, DT * STEPS), controls)
