@@ -39,10 +39,9 @@ def execute(nb, folder: Path, timeout: float = 600) -> tuple[float, float]:
     cpu, wall = _children_cpu() + time.process_time(), time.perf_counter()
     try:
         client.execute()
-    finally:
-        spent = (_children_cpu() + time.process_time() - cpu, time.perf_counter() - wall)
-    execute.last = spent
-    return spent
+    finally:                                              # also when a cell fails
+        execute.last = (_children_cpu() + time.process_time() - cpu, time.perf_counter() - wall)
+    return execute.last
 
 
 def run(quick: bool = False) -> list[Row]:
