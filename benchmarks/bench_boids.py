@@ -2,8 +2,9 @@
 flocking widget, compute and redraw (target 100 ms).
 
 The step uses the k-d tree neighbour search at the notebook's density (0.375 boids per
-m²), timed after 50 steps, once groups (with more neighbours per boid) have formed; the widget is driven as a student drives it, by setting a slider's value, and is
-drawn with Agg as outside a kernel.
+m²), timed after 50 steps, once groups (with more neighbours per boid) have formed. The
+widget is driven as a student drives it, by setting a slider's value, and is drawn with
+Agg as outside a kernel.
 """
 
 from __future__ import annotations
