@@ -3,9 +3,13 @@
 No network: the icons are inline SVG paths, the script plain ES5-style JavaScript with no
 library. The script finds its player from its own ``<script>`` element (or, failing that,
 the player's id), so it works wherever the HTML lands: a JupyterLab output rendered late by
-the notebook's lazy windowing, a Voila page, a static site. It marks the player
-``data-ready`` and, while it plays, ``data-playing``; the current frame is ``data-frame``
-(browser tests read these). Imports nothing.
+the notebook's lazy windowing, a Voila page, a static site. It writes the controls, so
+where scripts do not run (an untrusted notebook) the reader sees the first frame and a hint
+rather than dead buttons; it marks the player ``data-ready`` and, while it plays,
+``data-playing``; the current frame is ``data-frame`` (browser tests read these). A press
+on the controls drives the player only: it does not reach JupyterLab, whose notebook would
+also select the cell (and focus it, which may scroll the page under the pointer). Imports
+nothing.
 """
 
 from __future__ import annotations
@@ -70,6 +74,9 @@ PLAYER_JS = """(function () {
   var root = (s && s.closest && s.closest('.clp')) || document.getElementById('__UID__');
   if (!root || root.getAttribute('data-ready')) { return; }
   var d = JSON.parse(root.querySelector('.clp-data').textContent);
+  var hint = root.querySelector('.clp-hint');
+  hint.insertAdjacentHTML('beforebegin', d.controls);
+  hint.parentNode.removeChild(hint);
   var img = root.querySelector('.clp-img'), cap = root.querySelector('.clp-caption');
   var lab = root.querySelector('.clp-label'), sl = root.querySelector('.clp-slider');
   var menu = root.querySelector('.clp-mode'), btn = root.querySelector('[data-act=play]');
@@ -114,6 +121,12 @@ PLAYER_JS = """(function () {
     show(a === 'first' ? 0 : a === 'last' ? n - 1 : a === 'prev' ? k - 1 : k + 1);
   });
   sl.addEventListener('input', function () { stop(); show(+sl.value); });
+  // A press on the controls is the player's: JupyterLab's notebook would also select and
+  // focus the cell, which may scroll the page while the button is being pressed.
+  var bar = root.querySelector('.clp-bar');
+  ['mousedown', 'pointerdown'].forEach(function (t) {
+    bar.addEventListener(t, function (e) { e.stopPropagation(); });
+  });
   root.setAttribute('data-frame', 0);
   root.setAttribute('data-ready', '1');
 })();""".replace("__PLAY__", _PLAY_SVG).replace("__PAUSE__", _PAUSE_SVG)

@@ -87,7 +87,7 @@ def encode_png(fig, dpi: float | None = None, colors: int = 256) -> bytes:
         raise ValueError(f"colors must be 0 (no palette) or 2..256, got {colors!r}")
     img = Image.open(io.BytesIO(buf.getvalue())).convert("RGB")
     out = io.BytesIO()
-    img.quantize(colors=colors, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE).save(
+    img.quantize(colors=colors, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE).save(
         out, format="PNG", optimize=True)
     return out.getvalue()
 
@@ -137,19 +137,21 @@ def frames_html(pngs: Sequence[bytes], labels: Sequence[str], captions: Sequence
     b64 = [base64.b64encode(p).decode("ascii") for p in pngs]
     # The id is a hash of the content: equal inputs give byte-equal HTML.
     uid = "clp-" + hashlib.sha1("".join(b64 + list(labels) + captions).encode()).hexdigest()[:12]
+    # The controls are written by the script: where scripts do not run (an untrusted
+    # notebook) the reader sees the first frame and the hint, not dead buttons.
     data = json.dumps({"frames": [None, *b64[1:]], "labels": list(labels), "captions": captions,
-                       "interval": float(interval), "mode": mode, "kind": kind})
+                       "interval": float(interval), "mode": mode, "kind": kind,
+                       "controls": controls_html(kind, n, html.escape(labels[0]), mode)})
     data = data.replace("</", "<\\/")  # no "</script>" inside the script element
     esc = html.escape
     return (
         f'<div class="clp" id="{uid}" data-kind="{kind}" '
-        f'style="width:max({width}px,34em);max-width:100%">\n<style>{PLAYER_CSS}</style>\n'
+        f'style="width:max({width}px,44em);max-width:100%">\n<style>{PLAYER_CSS}</style>\n'
         + (f'<div class="clp-title">{esc(title)}</div>\n' if title else "")
         + f'<img class="clp-img" width="{width}" height="{height}" alt="{esc(alt or title)}" '
         f'src="data:image/png;base64,{b64[0]}">\n'
         f'<div class="clp-caption">{esc(captions[0])}</div>\n'
-        + controls_html(kind, n, esc(labels[0]), mode)
-        + '<div class="clp-hint">Run this cell (or trust the notebook) to use the controls.'
+        '<div class="clp-hint">Run this cell (or trust the notebook) to use the controls.'
         '</div>\n'
         f'<script type="application/json" class="clp-data">{data}</script>\n'
         f'<script>{PLAYER_JS.replace("__UID__", uid)}</script>\n</div>'

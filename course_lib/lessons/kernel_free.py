@@ -33,7 +33,7 @@ HAIR_KBENDS = (1.0, 30.0, 300.0, 1000.0, 3000.0, 6000.0, 9000.0, 9500.0, 10000.0
 def stability_player(problem: str = "decay", method: str = "forward_euler", rate: float = 1.0,
                      dts=STABILITY_DTS) -> Player:
     """The stability explorer's ``dt`` slider, precomputed (notebook 03)."""
-    from .nb03_explorer_view import draw_experiment
+    from .nb03_explorer_plot import draw_experiment
     from .nb03_stability import run_experiment
 
     return parameter_player(
@@ -53,7 +53,8 @@ def _verdict(run) -> str:
 def spring_player(dt: float = 0.1, c: float = 0.0, method: str = "symplectic_euler",
                   ks=SPRING_KS) -> Player:
     """The spring widget's stiffness slider, precomputed at a fixed ``dt`` (notebook 07)."""
-    from .nb07_springs import draw_spring_run, run_spring
+    from .nb07_spring_view import draw_spring_run
+    from .nb07_springs import run_spring
 
     return parameter_player(
         run_spring, draw_spring_run, "k", ks, fixed={"dt": dt, "c": c, "method": method},
@@ -65,11 +66,13 @@ def spring_player(dt: float = 0.1, c: float = 0.0, method: str = "symplectic_eul
 
 def hair_player(dt: float = 1e-4, damping: float = 2e-3, k_bends=HAIR_KBENDS) -> Player:
     """The hair widget's bending-stiffness slider, precomputed at a fixed ``dt`` (notebook 08)."""
-    from .nb08_hair_chains import draw_held_strand, run_held_strand
+    from .nb08_hair_chains import run_held_strand
+    from .nb08_hair_view import MAX_STEPS, T_END, draw_held_strand
 
     return parameter_player(
         run_held_strand, draw_held_strand, "k_bend", k_bends,
-        fixed={"dt": dt, "damping": damping}, unit="N/m", label="k_bend", fmt="{:g}",
+        fixed={"dt": dt, "damping": damping, "max_steps": MAX_STEPS, "t_end": T_END},
+        unit="N/m", label="k_bend", fmt="{:g}",
         caption=_verdict,
         title=f"Without a kernel: a held strand, symplectic Euler, dt = {dt:g} s; "
               "slide the bending stiffness",

@@ -1,0 +1,207 @@
+"""Browser tests: Playwright driving Debian's Chromium against JupyterLab, the site and Voila.
+
+Run with ``make test-browser`` (part of ``make test``) or ``pytest tests/browser``; a plain
+``pytest tests`` leaves this folder out. Chromium is Debian's (``/usr/bin/chromium``): when
+it is missing and we are root it is installed with apt-get, otherwise every test is skipped
+with a message saying how to enable them. No browser is ever downloaded. A failing test
+leaves a screenshot in ``build/browser-screenshots/``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+HERE = Path(__file__).resolve().parent
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                 "--disable-component-update", "--disable-sync", "--no-first-run",
+                 "--disable-quic"]
+SHOTS = ROOT / "build" / "browser-screenshots"
+TOKEN = "course-browser-test"
+
+
+def pytest_ignore_collect(collection_path, config):
+    """Collect this folder only when asked for by path (``pytest tests/browser``)."""
+    targets = [Path(str(a).split("::")[0]).resolve() for a in config.args]
+    return not any(t == HERE or HERE in t.parents for t in targets)
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_makereport(item, call):
+    report = yield
+    if report.when == "call":
+        item.failed_call = report.failed
+    return report
+
+
+def _chromium_missing() -> str | None:
+    """None when Chromium is there (installing it with apt-get if we may), else why not."""
+    if CHROMIUM.exists():
+        return None
+    how = "install Debian's Chromium (`sudo apt-get install -y chromium`) and run `make test-browser`"
+    if os.geteuid() != 0 or shutil.which("apt-get") is None:
+        return f"browser tests skipped: /usr/bin/chromium is missing; {how}"
+    env = {**os.environ, "DEBIAN_FRONTEND": "noninteractive"}
+    subprocess.run(["apt-get", "update", "-qq"], env=env, capture_output=True)
+    done = subprocess.run(["apt-get", "install", "-y", "-qq", "chromium"], env=env,
+                          capture_output=True, text=True)
+    if done.returncode != 0 or not CHROMIUM.exists():
+        return f"browser tests skipped: `apt-get install chromium` failed ({done.stderr[-300:]}); {how}"
+    return None
+
+
+@pytest.fixture(scope="session")
+def browser():
+    why = _chromium_missing()
+    if why:
+        pytest.skip(why)
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        pytest.skip("browser tests skipped: the `playwright` package is missing "
+                    "(`make setup` installs requirements.txt)")
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
+        yield b
+        b.close()
+
+
+def _local(url: str) -> bool:
+    return url.startswith(("file:", "data:", "blob:", "http://127.0.0.1", "ws://127.0.0.1"))
+
+
+@pytest.fixture
+def page(browser, request):
+    """A fresh page (1400 x 900) in its own context with the network blocked beyond this
+    machine (files, data and blob URLs, 127.0.0.1); uncaught script errors are collected in
+    ``page.errors`` and blocked URLs in ``page.blocked``."""
+    context = browser.new_context(viewport={"width": 1400, "height": 900})
+    blocked: list[str] = []
+
+    def route(r):
+        if _local(r.request.url):
+            r.continue_()
+        else:
+            blocked.append(r.request.url)
+            r.abort()
+
+    context.route("**/*", route)
+    pg = context.new_page()
+    pg.blocked, pg.errors = blocked, []
+    pg.on("pageerror", lambda e: pg.errors.append(str(e)))
+    pg.set_default_timeout(60_000)
+    yield pg
+    if getattr(request.node, "failed_call", False):
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        with contextlib.suppress(Exception):
+            pg.screenshot(path=str(SHOTS / f"{request.node.name}.png"))
+    context.close()
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _answers(url: str) -> bool:
+    """``url`` answers 200, or, for ``tcp://host:port``, the port accepts a connection."""
+    with contextlib.suppress(OSError):
+        if url.startswith("tcp://"):
+            host, port = url[6:].split(":")
+            with socket.create_connection((host, int(port)), timeout=2):
+                return True
+        with urllib.request.urlopen(url, timeout=5) as r:
+            return r.status == 200
+    return False
+
+
+def wait_http(url: str, proc: subprocess.Popen, log: Path, timeout: float = 90) -> None:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if proc.poll() is not None:
+            raise RuntimeError(f"server exited:\n{log.read_text()[-3000:]}")
+        if _answers(url):
+            return
+        time.sleep(0.5)
+    raise RuntimeError(f"no answer from {url}:\n{log.read_text()[-3000:]}")
+
+
+@contextlib.contextmanager
+def server(cmd: list[str], env: dict, cwd: Path, log: Path, ready_url: str):
+    with log.open("w") as out:
+        proc = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=out, stderr=subprocess.STDOUT,
+                                start_new_session=True)
+        try:
+            wait_http(ready_url, proc, log)
+            yield proc
+        finally:
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(proc.pid, signal.SIGTERM)
+            try:
+                proc.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+
+
+def fresh_jupyter_env(home: Path) -> dict:
+    """A student's first launch: empty Jupyter config and data folders, the course's
+    settings on JUPYTER_CONFIG_PATH (as ``make lab`` sets them)."""
+    for d in ("config", "data", "runtime"):
+        (home / d).mkdir(parents=True, exist_ok=True)
+    return {**os.environ, "JUPYTER_CONFIG_DIR": str(home / "config"),
+            "JUPYTER_DATA_DIR": str(home / "data"), "JUPYTER_RUNTIME_DIR": str(home / "runtime"),
+            "JUPYTER_CONFIG_PATH": str(ROOT / "jupyter_config"), "JUPYTER_PLATFORM_DIRS": "1"}
+
+
+class Lab:
+    """A running JupyterLab: ``url(path)``, its log, and the folder it serves."""
+
+    def __init__(self, base: str, root: Path, log: Path):
+        self.base, self.root, self.log = base, root, log
+
+    def url(self, path: str) -> str:
+        return f"{self.base}/lab/tree/{path}?reset&token={TOKEN}"
+
+    def shutdown_kernels(self) -> None:
+        import json
+
+        req = urllib.request.Request(f"{self.base}/api/sessions?token={TOKEN}")
+        with urllib.request.urlopen(req, timeout=10) as r:
+            sessions = json.load(r)
+        for s in sessions:
+            urllib.request.urlopen(urllib.request.Request(
+                f"{self.base}/api/sessions/{s['id']}?token={TOKEN}", method="DELETE"), timeout=10)
+
+
+@pytest.fixture(scope="session")
+def lab(browser, tmp_path_factory):
+    """JupyterLab as ``make lab`` starts it (same settings), on a copy of the notebooks (so
+    autosave cannot touch the repository), for a student on a fresh machine."""
+    root = tmp_path_factory.mktemp("lab")
+    for folder in ("notebooks", "solutions"):
+        shutil.copytree(ROOT / folder, root / folder)
+    port = free_port()
+    bindir = Path(sys.executable).parent
+    cmd = [str(bindir / "jupyter"), "lab", "--no-browser", f"--port={port}",
+           "--ServerApp.ip=127.0.0.1", f"--ServerApp.root_dir={root}",
+           f"--IdentityProvider.token={TOKEN}", "--LabApp.expose_app_in_browser=True"]
+    if os.geteuid() == 0:
+        cmd.append("--allow-root")
+    log = root / "lab.log"
+    base = f"http://127.0.0.1:{port}"
+    with server(cmd, fresh_jupyter_env(root / "home"), root, log,
+                f"{base}/api/status?token={TOKEN}"):
+        yield Lab(base, root, log)

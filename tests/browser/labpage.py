@@ -1,0 +1,171 @@
+"""Driving a notebook in JupyterLab from Playwright, through ``window.jupyterapp``.
+
+JupyterLab is started with ``--LabApp.expose_app_in_browser=True``; we wait for the
+notebook's session to have a connected, idle kernel (the execution indicator reads idle
+before a kernel is attached, so it cannot be trusted), run cells through JupyterLab's own
+commands, read outputs from the notebook model (off-screen cells may not be in the DOM:
+JupyterLab renders them lazily), and ask the kernel what a widget computed.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+
+NB = "window.jupyterapp.shell.currentWidget"
+
+READY = f"""() => {{
+  const w = window.jupyterapp && {NB};
+  const k = w && w.sessionContext && w.sessionContext.session && w.sessionContext.session.kernel;
+  return !!k && k.connectionStatus === 'connected' && k.status === 'idle'
+    && w.context.isReady && w.content.widgets.length > 0;
+}}"""
+
+
+def open_notebook(page, lab, path: str) -> None:
+    """Open ``path`` (relative to the served folder) and wait for an idle kernel."""
+    page.goto(lab.url(path))
+    page.wait_for_function(READY, timeout=120_000, polling=250)
+
+
+def is_dirty(page) -> bool:
+    return page.evaluate(f"() => {NB}.context.model.dirty")
+
+
+DONE = f"""() => {{
+  const w = {NB}, k = w.sessionContext.session && w.sessionContext.session.kernel;
+  if (!k || k.status !== 'idle') return false;
+  const cells = w.content.widgets.filter(c => c.model.type === 'code');
+  const failed = cells.some(c => Array.from({{length: c.model.outputs.length}},
+      (_, j) => c.model.outputs.get(j).type).includes('error'));
+  return failed || cells.every(c => c.model.executionCount !== null);
+}}"""
+
+
+def run_all(page, timeout: float = 400) -> float:
+    """Run every cell (JupyterLab's Run All); wait until each code cell has run (or one
+    failed) and the kernel is idle. Returns the seconds it took."""
+    start = time.monotonic()
+    page.evaluate("() => { window.jupyterapp.commands.execute('notebook:run-all-cells'); }")
+    deadline = start + timeout
+    while time.monotonic() < deadline:
+        if page.evaluate(DONE):
+            time.sleep(0.5)
+            if page.evaluate(DONE):  # still done: not between two cells
+                return time.monotonic() - start
+        time.sleep(0.5)
+    pending = page.evaluate(f"""() => {NB}.content.widgets.map((c, i) => [i, c.model.type,
+        c.model.executionCount]).filter(x => x[1] === 'code' && x[2] === null).map(x => x[0])""")
+    raise AssertionError(f"Run All did not finish in {timeout:.0f} s; cells not run: {pending}")
+
+
+def problems(page) -> list[str]:
+    """Error outputs and stderr text of every code cell (from the model, not the DOM)."""
+    return page.evaluate(f"""() => {{
+      const found = [];
+      {NB}.content.widgets.forEach((c, i) => {{
+        if (c.model.type !== 'code') return;
+        const outs = c.model.outputs;
+        for (let j = 0; j < outs.length; j++) {{
+          const o = outs.get(j).toJSON();
+          if (o.output_type === 'error') found.push(`cell ${{i}}: ${{o.ename}}: ${{o.evalue}}`);
+          if (o.output_type === 'stream' && o.name === 'stderr')
+            found.push(`cell ${{i}} (stderr): ${{String(o.text).slice(0, 300)}}`);
+        }}
+      }});
+      return found;
+    }}""")
+
+
+def find_cell(page, needle: str, *, widget: bool = False) -> int:
+    """Index of the first code cell whose source contains ``needle`` (and, with
+    ``widget=True``, whose outputs hold a live widget)."""
+    index = page.evaluate(f"""([needle, widget]) => {NB}.content.widgets.findIndex(c => {{
+        if (c.model.type !== 'code' || !c.model.sharedModel.source.includes(needle)) return false;
+        if (!widget) return true;
+        const outs = c.model.outputs;
+        for (let j = 0; j < outs.length; j++)
+          if ('application/vnd.jupyter.widget-view+json' in (outs.get(j).data || {{}})) return true;
+        return false;
+      }})""", [needle, widget])
+    assert index >= 0, f"no code cell containing {needle!r}" + (" with a widget" if widget else "")
+    return index
+
+
+def cell(page, index: int):
+    """Scroll cell ``index`` into view (rendering it) and return a locator for its node."""
+    page.evaluate(f"""async (i) => {{
+        const nb = {NB}.content;
+        await nb.scrollToItem(i, 'start');
+        nb.widgets[i].node.setAttribute('data-test-cell', String(i));
+      }}""", index)
+    loc = page.locator(f'[data-test-cell="{index}"]')
+    loc.wait_for(state="attached")
+    return loc
+
+
+def kernel_run(page, code: str) -> str:
+    """Run ``code`` in the notebook's kernel (no cell, no history); return its stdout."""
+    return page.evaluate(f"""async (code) => {{
+        const k = {NB}.sessionContext.session.kernel;
+        let out = '';
+        const f = k.requestExecute({{code, store_history: false}});
+        f.onIOPub = (m) => {{
+          if (m.header.msg_type === 'stream') out += m.content.text;
+          if (m.header.msg_type === 'error') out += 'ERROR ' + m.content.ename + ': ' + m.content.evalue;
+        }};
+        await f.done;
+        return out;
+      }}""", code)
+
+
+VERDICTS = """
+import gc, json
+from course_lib.widgets import ExplorerView
+def _verdict(r):
+    v = getattr(r, "verdict", None)
+    if isinstance(v, str):
+        return v.split(":")[0].strip().lower()
+    return "stable" if getattr(r, "stable", True) else "unstable"
+print(json.dumps([[v.controls[NAME].value, _verdict(v.result)] for v in gc.get_objects()
+                  if isinstance(v, ExplorerView) and NAME in v.controls]))
+"""
+
+
+def verdict(page, control: str, value: float) -> str:
+    """The verdict of the live view whose ``control`` is at ``value`` ("stable"/"unstable")."""
+    out = kernel_run(page, f"NAME = {control!r}" + VERDICTS)
+    views = json.loads(out)
+    close = [v for x, v in views if abs(x - value) <= 1e-3 * abs(value)]
+    assert close, f"no view with {control} = {value}: {views}"
+    return close[-1]
+
+
+def set_slider(page, scope, label: str, value: float) -> None:
+    """Type ``value`` into the readout of the slider labelled ``label`` and press Enter."""
+    slider = scope.locator(".widget-slider").filter(
+        has=page.locator(".widget-label", has_text=label)).first
+    readout = slider.locator(".widget-readout")
+    readout.click()
+    page.keyboard.press("Control+A")
+    page.keyboard.type(f"{value:g}")
+    page.keyboard.press("Enter")
+
+
+def picture(scope) -> str:
+    """``src`` of the widget's picture (the largest image inside the widget)."""
+    return scope.evaluate("""(root) => {
+        const imgs = Array.from(root.querySelectorAll('.jupyter-widgets img'));
+        imgs.sort((a, b) => b.width * b.height - a.width * a.height);
+        return imgs.length ? imgs[0].src : '';
+      }""")
+
+
+def wait_new_picture(scope, old: str, timeout: float = 90) -> str:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        src = picture(scope)
+        if src and src != old:
+            return src
+        time.sleep(0.2)
+    raise AssertionError("the widget's picture did not change")

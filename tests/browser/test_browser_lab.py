@@ -1,0 +1,137 @@
+"""A student's first hour in JupyterLab (issue 13), replayed in Chromium.
+
+Each notebook with a widget (the student version, as ``make lab`` serves it on a fresh
+machine) must open unmodified, run top to bottom without an error or a warning, and its
+widget must answer a control moved across a stability limit with a new verdict and a new
+picture (and a sign that it worked, for the slow ones). Animations must show a frame
+before any click, play on the first click and not make the page jump. Outputs must use
+marks every font has, and the first launch must be quiet.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+
+import labpage
+import pytest
+
+#: notebook -> (cell needle, [(label, value) set first], (control, label), before, after,
+#:              verdicts expected, busy status expected)
+WIDGETS = {
+    "03_stability": ("stability_explorer", [], ("dt", "dt (s)"), 1.9, 2.1, True, False),
+    "06_forces": ("steering_view", [], ("strength", "strength"), 2.0, 5.0, False, False),
+    "07_springs": ("spring_explorer", [("dt (s)", 0.1)], ("k", "k (N/m)"), 350.0, 450.0, True, True),
+    "08_hair_chains": ("held_strand_explorer", [], ("k_bend", "k_bend (N/m)"), 9000.0, 9500.0,
+                       True, True),
+}
+#: Characters drawn only by colour-emoji fonts (default emoji presentation): an empty box
+#: on a machine without one. Outputs should use marks every font has (✓ ✗ ○ …) or words.
+EMOJI = re.compile("[\u231a\u231b\u23e9-\u23ec\u23f0\u23f3\u25fd\u25fe\u2614\u2615\u2648-\u2653"
+                   "\u267f\u2693\u26a1\u26aa\u26ab\u26bd\u26be\u26c4\u26c5\u26ce\u26d4\u26ea"
+                   "\u26f2\u26f3\u26f5\u26fa\u26fd\u2705\u270a\u270b\u2728\u274c\u274e"
+                   "\u2753-\u2755\u2757\u2795-\u2797\u27b0\u27bf\u2b1b\u2b1c\u2b50\u2b55"
+                   "\U0001f000-\U0001faff]")
+
+
+def output_text(page) -> str:
+    return page.evaluate(f"""() => {labpage.NB}.content.widgets.map(c => c.model.type !== 'code'
+        ? '' : Array.from({{length: c.model.outputs.length}}, (_, j) => {{
+            const o = c.model.outputs.get(j).toJSON();
+            return [o.text || '', (o.data || {{}})['text/plain'] || ''].join('');
+        }}).join('')).join('')""")
+
+
+def open_and_run(page, lab, name: str) -> None:
+    labpage.open_notebook(page, lab, f"notebooks/{name}.ipynb")
+    time.sleep(1.0)  # JupyterLab updates the metadata just after the kernel connects
+    assert not labpage.is_dirty(page), (
+        f"{name} turns 'modified' as soon as it opens: its stored kernelspec or language_info "
+        "differs from what the kernel reports (re-run `make execute` and `make student`)")
+    labpage.run_all(page)
+    assert labpage.problems(page) == [], f"{name}: errors or warnings after Run All"
+    marks = sorted(set(EMOJI.findall(output_text(page))))
+    assert not marks, f"{name}: outputs use {marks}, an empty box without an emoji font"
+
+
+def check_animations(page) -> int:
+    """Every animation player shows a frame before any click; the first click plays it and
+    the page does not jump. Returns how many players were checked."""
+    count = page.evaluate(f"""() => {labpage.NB}.content.widgets.filter(c =>
+        c.model.type === 'code' && c.model.sharedModel.source.includes('animation_html')).length""")
+    index = -1
+    for _ in range(count):
+        index = page.evaluate(f"""(start) => {labpage.NB}.content.widgets.findIndex((c, i) =>
+            i > start && c.model.type === 'code'
+            && c.model.sharedModel.source.includes('animation_html'))""", index)
+        player = labpage.cell(page, index).locator(".clp[data-kind=animation]")
+        player.wait_for()
+        img = player.locator("img.clp-img")
+        size = img.evaluate("i => [i.naturalWidth, i.getBoundingClientRect().height]")
+        assert size[0] > 0 and size[1] > 50, f"cell {index}: no frame before any click ({size})"
+        assert player.get_attribute("data-frame") == "0"
+        # the controls at the top of the view, the cell's top above it: a click that
+        # selected the cell would scroll the cell's top into view
+        player.locator(".clp-bar").evaluate("b => b.scrollIntoView({block: 'start'})")
+        time.sleep(0.3)
+        y0 = img.bounding_box()["y"]
+        player.locator("[data-act=play]").click()
+        page.wait_for_function("(el) => el.getAttribute('data-frame') !== '0'",
+                               arg=player.element_handle(), timeout=5000)
+        assert player.get_attribute("data-playing") == "1", "the first click did not play"
+        assert abs(img.bounding_box()["y"] - y0) < 5, "the page jumped when the player started"
+        player.locator("[data-act=play]").click()  # pause
+        assert player.get_attribute("data-playing") is None
+    return count
+
+
+@pytest.mark.parametrize("name", sorted(WIDGETS))
+def test_widget_notebook_runs_and_its_widget_crosses_the_limit(page, lab, name):
+    needle, first, (control, label), before, after, verdicts, busy = WIDGETS[name]
+    try:
+        open_and_run(page, lab, name)
+        scope = labpage.cell(page, labpage.find_cell(page, needle, widget=True))
+        scope.locator(".widget-slider").first.wait_for()
+        pic = labpage.picture(scope)
+        for lab_text, value in [*first, (label, before)]:
+            labpage.set_slider(page, scope, lab_text, value)
+            pic = labpage.wait_new_picture(scope, pic)
+        if verdicts:
+            assert labpage.verdict(page, control, before) == "stable"
+        labpage.set_slider(page, scope, label, after)
+        new_pic = labpage.wait_new_picture(scope, pic)
+        assert new_pic != pic
+        if verdicts:
+            assert labpage.verdict(page, control, after) == "unstable"
+        if busy:  # the slow widgets say that they worked, and how long it took
+            status = scope.locator(".widget-html").all_inner_texts()
+            assert any(re.search(r"updated in|working", s) for s in status), status
+        if name == "07_springs":  # readable method names, as in notebook 03
+            options = scope.locator("select option").all_inner_texts()
+            assert options and not any("_" in o for o in options), options
+        if name == "08_hair_chains":
+            assert check_animations(page) >= 1
+    finally:
+        lab.shutdown_kernels()
+
+
+def test_animation_shows_a_frame_and_plays_on_the_first_click(page, lab):
+    try:
+        open_and_run(page, lab, "01_vector_fields")
+        assert check_animations(page) >= 1
+    finally:
+        lab.shutdown_kernels()
+
+
+def test_first_launch_is_quiet(page, lab):
+    """No news prompt in the page; no encryption warning, skipped-server list or
+    deprecation warning in the terminal (the lab log, kernels included)."""
+    labpage.open_notebook(page, lab, "notebooks/02_forward_euler.ipynb")
+    time.sleep(3)
+    toasts = page.locator(".jp-Notification-Toast, .Toastify__toast").all_inner_texts()
+    assert not any("news" in t.lower() for t in toasts), toasts
+    lab.shutdown_kernels()
+    log = lab.log.read_text()
+    for noise in ("without encryption", "Skipped non-installed", "DeprecationWarning",
+                  "websocket_ping_timeout"):
+        assert noise not in log, f"`make lab` prints {noise!r}:\n{log[-2000:]}"
