@@ -16,6 +16,7 @@ import nbformat
 import pytest
 from notebook_helpers import ROOT
 
+from course_lib.instructor.kit import load_kit
 from course_lib.instructor.nbgrader_export import (
     autograde_test,
     ensure_nbgrader,
@@ -38,10 +39,10 @@ def test_source_notebooks_carry_nbgrader_metadata():
     nb = nbgrader_source(nbformat.read(ROOT / "solutions" / f"{A05}.ipynb", as_version=4))
     meta = [m for m in nbgrader_meta(nb) if m]
     tests = [m for m in meta if m["grade_id"].startswith("test_")]
-    assert [m["grade_id"] for m in tests] == ["test_symplectic_euler_step", "test_velocity_verlet_step",
-                                              "test_impact_time", "test_euler_apple_height"]
+    exercises = load_kit(ROOT / "solutions")[A05].exercises
+    assert [m["grade_id"] for m in tests] == [f"test_{e.name}" for e in exercises]
     assert all(m["grade"] and m["locked"] and not m["solution"] for m in tests)
-    assert [m["points"] for m in tests] == [float(getattr(nb05, m["grade_id"][5:]).points) for m in tests]
+    assert [m["points"] for m in tests] == [float(getattr(nb05, e.check).points) for e in exercises]
     answers = [m for m in meta if m["grade_id"].startswith("answer_")]
     assert len(answers) == 4 and all(m["solution"] and not m["grade"] and not m["locked"] for m in answers)
     assert any(m["grade_id"] == "imports" and m["locked"] for m in meta)

@@ -171,10 +171,19 @@ def judge(check, record: dict, limits_exercise_s: float) -> tuple[str, str, dict
         return "error", f"the check could not finish ({stop})", details
     details.update(passed_cases=verdict["passed_cases"], failed_cases=verdict["failed_cases"])
     details["counts"] = (verdict["passed"], verdict["total"])
-    if verdict["status"] == "pending":
+    # What the function raised, seen in the replay itself (whether or not the check caught it).
+    raised = [c["raised"] for c in replay.calls[:replay.k] if isinstance(c.get("raised"), dict)]
+    returned = any("result" in c for c in replay.calls[:replay.k])
+    if verdict["status"] == "pending" or (verdict["status"] != "correct" and raised and not returned
+                                          and all(r.get("pending") for r in raised)):
         return "pending", "not attempted yet: the function still raises NotImplementedError", details
-    if verdict["error"]:
-        return "error", f"your function raised {verdict['error']}"[:300], details
+    errors = [r for r in raised if not r.get("pending")]
+    if verdict["status"] != "correct" and (verdict["error"] or errors):
+        what = verdict["error"] or f"{errors[0].get('type')}: {errors[0].get('message')}"
+        if not details.get("traceback"):
+            details["traceback"] = next((c["traceback"] for c in replay.calls[:replay.k]
+                                         if c.get("traceback")), "")
+        return "error", f"your function raised {what}"[:300], details
     if verdict["status"] == "correct":
         return "correct", f"{verdict['passed']} of {verdict['total']} cases passed", details
     failed = verdict["failed_cases"]

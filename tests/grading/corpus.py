@@ -242,7 +242,7 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
      .answer("impact_time", "return (x for x in t)").write(nb05("odd_returns_05")))
     student("odd_returns_02", s02=_all("pending", A02, forward_euler_step="correct", radius_after="incorrect",
                                         drift_dt="incorrect"))
-    (Sub(A02).solve("forward_euler_step").answer("radius_after", "return [r0 * (1 + dt**2) ** (n / 2)]")
+    (Sub(A02).solve("forward_euler_step").answer("radius_after", "return {'r': r0 * (1 + dt**2) ** (n / 2)}")
      .answer("drift_dt", "return '0.01'").write(nb02("odd_returns_02")))
     student("renamed_function_02", s02=_all("correct", A02, forward_euler_step="missing"))
     (Sub(A02).solve().edit("forward_euler_step", "def forward_euler_step(", "def my_step(")
