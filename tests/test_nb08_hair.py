@@ -138,7 +138,7 @@ def test_widget_blowup_state():
 
 
 def test_widget_key_states():
-    soft = nb08.run_held_strand(k_bend=10.0, damping=2e-3, dt=1e-4, t_end=0.4)
+    soft = nb08.run_held_strand(k_bend=10.0, damping=2e-3, dt=1e-4, t_end=0.3)
     assert soft.stable and round(-soft.equilibrium[-1, 1] * 100) == 27      # "27 cm below"
     assert soft.tip_y[-1] > soft.equilibrium[-1, 1] + 0.05                   # still falling
     assert nb08.tip_sag(10.0, 0.3) < nb08.tip_sag(0.0, 0.3)                   # "almost as low"
@@ -147,13 +147,13 @@ def test_widget_key_states():
 def test_held_strand_explorer_view():
     view = nb08.held_strand_explorer(k_bend=2000.0, damping=2e-3, dt=1e-4)
     r = view.result
-    assert r.stable and r.params["steps"] == 4000 and r.params["t_shown"] == pytest.approx(0.4)
+    assert r.stable and r.params["steps"] == 3000 and r.params["t_shown"] == pytest.approx(0.3)
     assert "updated in" in view.status.value
     view.controls["dt"].value = 3e-4                      # past the 0.184 ms limit
     assert not view.result.stable and "stopped after step" in view.figure.texts[1].get_text()
-    view.controls["dt"].value = 2e-5                      # the cap: 4000 steps, 0.08 s
+    view.controls["dt"].value = 2e-5                      # the cap: 3000 steps, 0.06 s
     r = view.result
-    assert r.params["steps"] == view08.MAX_STEPS == 4000 and r.params["t_shown"] == pytest.approx(0.08)
+    assert r.params["steps"] == view08.MAX_STEPS == 3000 and r.params["t_shown"] == pytest.approx(0.06)
     assert "the widget's cap" in view.figure.texts[1].get_text()
     view.controls["k_bend"].value = 10.0                  # soft bending springs: droops
     view.controls["dt"].value = 1e-4
@@ -162,7 +162,7 @@ def test_held_strand_explorer_view():
     assert r.equilibrium[-1, 1] < -0.25
     # the widget runs what run_held_strand runs
     same = nb08.run_held_strand(k_bend=view.controls["k_bend"].value, damping=2e-3, dt=1e-4,
-                                t_end=0.4, max_steps=4000)
+                                t_end=0.3, max_steps=3000)
     assert np.array_equal(same.tip_y, r.tip_y)
 
 

@@ -24,7 +24,7 @@ from ..springs import SpringNetwork
 from .nb08_hair_chains import HeldStrandRun, run_held_strand
 
 #: The widget's time span (s) and cap on the steps of one run (and so on its update time).
-T_END, MAX_STEPS = 0.4, 4000
+T_END, MAX_STEPS = 0.3, 3000
 FIGSIZE = (10.0, 3.6)
 N_SNAPSHOTS = 6
 
@@ -77,7 +77,7 @@ class HeldStrandPlot:
             self.last_s.set_data(run.last_finite[:, 0], run.last_finite[:, 1])
             self.last_s.set_label(f"last finite state (step {run.last_step})")
             handles.append(self.last_s)
-        self.ax_s.legend(handles=handles, fontsize=8, loc="lower left")
+        self.ax_s.legend(handles=handles, fontsize=8, loc="lower right")
 
         t = p["t"]
         last = run.last_step
