@@ -34,10 +34,20 @@ WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
 DEMO_TAG = "demo"
 
 
+#: Magics whose argument is code: their code counts when looking for names.
+_CODE_MAGICS = r"(?:time|timeit|prun|capture)"
+
+
 def _python(source: str) -> str:
+    """The cell as plain Python: code under ``%time``-like magics unwrapped, other magics
+    turned into ``get_ipython()`` calls."""
     from IPython.core.inputtransformer2 import TransformerManager
 
-    return TransformerManager().transform_cell(source)
+    lines = source.splitlines()
+    if lines and re.match(rf"%%{_CODE_MAGICS}\b", lines[0]):
+        lines = lines[1:]
+    lines = [re.sub(rf"^(\s*)%{_CODE_MAGICS}\s+(?:-\S+\s+)*", r"\1", ln) for ln in lines]
+    return TransformerManager().transform_cell("\n".join(lines))
 
 
 def names_used_and_defined(source: str) -> tuple[set[str], set[str]]:
@@ -54,7 +64,7 @@ def names_used_and_defined(source: str) -> tuple[set[str], set[str]]:
             bound.update((a.asname or a.name).split(".")[0] for a in node.names)
         elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
             bound.add(node.name)
-    return used - set(dir(builtins)), bound
+    return used - set(dir(builtins)) - {"get_ipython"}, bound
 
 
 def demo_indices(nb: nbformat.NotebookNode) -> list[int]:
