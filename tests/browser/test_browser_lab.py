@@ -135,3 +135,30 @@ def test_first_launch_is_quiet(page, lab):
     for noise in ("without encryption", "Skipped non-installed", "DeprecationWarning",
                   "websocket_ping_timeout"):
         assert noise not in log, f"`make lab` prints {noise!r}:\n{log[-2000:]}"
+
+
+@pytest.mark.parametrize("name", ["01_vector_fields", *sorted(WIDGETS)])
+def test_solution_opened_without_running_shows_its_pictures(page, lab, name):
+    """On a fresh machine a stored solution is untrusted: its animations must still show a
+    frame, and a picture of each widget's key states must sit beside the widget."""
+    try:
+        labpage.open_notebook(page, lab, f"solutions/{name}.ipynb")
+        found = page.evaluate(f"""() => {labpage.NB}.content.widgets.map(c => {{
+            if (c.model.type !== 'code') return '';
+            const kinds = Array.from({{length: c.model.outputs.length}}, (_, j) =>
+                Object.keys(c.model.outputs.get(j).data || {{}}).join(','));
+            const src = c.model.sharedModel.source;
+            return (src.includes('animation_html') ? 'A' : '')
+                + (kinds.some(k => k.includes('widget-view')) ? 'W' : '')
+                + (kinds.some(k => k.includes('image/png') || k.includes('text/html')) ? 'P' : '');
+          }})""")
+        for i, kind in enumerate(found):
+            if "W" in kind:
+                assert any("P" in k for k in found[max(0, i - 3):i] + found[i + 1:i + 4]), (
+                    f"{name}, cell {i}: no picture of the widget's key states beside it")
+            if "A" in kind:
+                player = labpage.cell(page, i).locator(".clp[data-kind=animation] img")
+                player.wait_for(timeout=15_000)  # (a player made before the offline one: none)
+                assert player.evaluate("i => i.naturalWidth") > 0, f"{name}, cell {i}: no frame"
+    finally:
+        lab.shutdown_kernels()
