@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 from scipy.linalg import LinAlgError, cho_factor, cho_solve
 
 from .collisions import sphere
@@ -104,13 +105,15 @@ def symplectic_euler_run(x0, network: SpringNetwork, dt: float, n_steps: int, *,
     free = np.ones(n)
     free[list(pinned)] = 0.0
     M = network.n_springs
-    # D: +1 at (i_s, s), -1 at (j_s, s). Gather: d = Dᵀ x; scatter: F = D f. Dense for a
-    # few strands, where it is fastest; each step is a dozen whole-array operations.
+    # D: +1 at (i_s, s), -1 at (j_s, s). Gather: d = Dᵀ x; scatter: F = D f. Dense for one
+    # strand, where it is fastest, sparse for more; each step is a dozen whole-array operations.
     D = np.zeros((n, M))
     D[network.i, np.arange(M)] += 1.0
     D[network.j, np.arange(M)] -= 1.0
     gather = D.T.copy()
     kick = -dt * D * (free / m)[:, None]          # dv = kick @ (a d), force on i is -a d
+    if n * M > 2000:
+        gather, kick = sp.csr_matrix(gather), sp.csr_matrix(kick)
     k, k_rest, c = network.k, network.k * network.rest, network.c
     damped_springs = bool(np.any(c))
     g_dt = dt * np.asarray([0.0] * dim if gravity is None else gravity, dtype=float)
