@@ -169,7 +169,7 @@ def test_feedback_for_every_student(graded):
     assert "Where it stopped" in page and "1 // 0" in page
     nb = nbformat.read(graded.out / "feedback" / "correct_02" / f"{A02}.ipynb", as_version=4)
     nbformat.validate(nb)
-    assert sum("**Grader" in c.source for c in nb.cells if c.cell_type == "markdown") == 3
+    assert sum("**Grader" in c.source for c in nb.cells if c.cell_type == "markdown") == len(EX[A02])
 
 
 def test_class_report_is_self_contained(graded):
@@ -180,4 +180,4 @@ def test_class_report_is_self_contained(graded):
 
 
 def test_grading_time_is_reasonable(graded):
-    assert graded.seconds < 150
+    assert graded.seconds < 240  # about 40 s on two idle cores; generous for a busy machine
