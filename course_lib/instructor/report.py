@@ -35,6 +35,7 @@ def _png(fig) -> str:
 
 def _status_chart(rows: list[Row]) -> str:
     from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
 
     labels = list(dict.fromkeys(f"{r.assignment}: {r.exercise}" for r in rows))
     counts = {lab: Counter() for lab in labels}
@@ -49,6 +50,7 @@ def _status_chart(rows: list[Row]) -> str:
             ax.barh(labels, widths, left=left, color=COLORS[status], label=status)
             left = [a + b for a, b in zip(left, widths, strict=True)]
     ax.invert_yaxis()
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax.set(xlabel="students", title="verdicts per exercise")
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=5, fontsize=8)
     return _png(fig)
@@ -63,15 +65,19 @@ def mistakes(rows: list[Row], top: int = 12) -> list[tuple[str, int]]:
             hint = hint_of(case)
             if hint:
                 seen.add(f"{r.exercise}: {hint}")
-        if r.status == "error":
+        if r.status in ("error", "timeout"):
             m = re.search(r"raised (\w+)", r.message)
-            seen.add(f"{r.exercise}: raised {m.group(1)}" if m else f"{r.exercise}: {r.message[:60]}")
+            what = (f"raised {m.group(1)}" if m else "its cell does not compile" if "compile" in r.message
+                    else "did not finish in time" if r.status == "timeout"
+                    else "the process crashed or was stopped" if "process" in r.message else r.message[:60])
+            seen.add(f"{r.exercise}: {what}")
         counter.update(seen)
     return counter.most_common(top)
 
 
 def _mistakes_chart(common: list[tuple[str, int]]) -> str:
     from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
 
     if not common:
         return "<p>No failed case carried a hint.</p>"
@@ -79,6 +85,7 @@ def _mistakes_chart(common: list[tuple[str, int]]) -> str:
     fig = Figure(figsize=(9, 0.4 * len(labels) + 1.2))
     ax = fig.add_subplot()
     ax.barh(labels, [n for _, n in common], color=COLORS["incorrect"])
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax.invert_yaxis()
     ax.tick_params(axis="y", labelsize=7)
     ax.set(xlabel="students", title="most frequent mistakes")
