@@ -322,6 +322,8 @@ def _stub(*args):
 def test_check_drag_force(capsys):
     check.drag_force(lambda v, b, w: -b * (v - w))
     assert _status("drag_force") == "correct"
+    check.drag_force(lambda v, b, w: (-b * (v - w)).astype(np.float32))
+    assert _status("drag_force") == "correct"
     check.drag_force(lambda v, b, w: b * (v - w))
     assert _status("drag_force") == "incorrect"
     assert "sign error" in capsys.readouterr().out
@@ -367,6 +369,9 @@ def test_check_circular_speed(capsys):
     check.circular_speed(lambda G_, M, r: np.float32(np.sqrt(G_ * M / r)))   # float32 is right
     assert _status("circular_speed") == "correct"
     capsys.readouterr()
+    check.circular_speed(lambda G_, M, r: np.nan)
+    out = capsys.readouterr().out
+    assert "returned NaN" in out and "got nan" not in out
     check.circular_speed(lambda G_, M, r: np.sqrt(2 * G_ * M / r))
     assert _status("circular_speed") == "incorrect"
     out = capsys.readouterr().out
