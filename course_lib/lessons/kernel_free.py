@@ -1,7 +1,7 @@
 """Kernel-free explorers: one precomputed player per widget, beside the live widget.
 
-Each function runs the live widget's own pure function (``run_experiment``,
-``run_spring``, ``run_held_strand``) for a list of values of the widget's key control,
+Each function runs the live widget's own pure function (``run_experiment``, ``run_spring``,
+``run_held_strand``, ``run_flock``) for a list of values of the widget's key control,
 draws each result with the widget's own drawing function, and returns a
 :class:`course_lib.players.Player` whose slider scrubs through them (HTML, no kernel, at
 most 300 kB). The values straddle the method's stability limit, so a reader of a static
@@ -79,9 +79,42 @@ def hair_player(dt: float = 1e-4, damping: float = 2e-3, k_bends=HAIR_KBENDS) ->
     )
 
 
+#: Alignment weights (1/s) of the flocking player: the flock orders as the weight grows, until
+#: the explicit alignment step overshoots (at dt = 0.2 s, between 6 and 8 /s) and every
+#: boid's heading flips each step.
+FLOCK_ALIGNMENTS = (0.0, 0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0)
+
+
+def _flock_caption(run) -> str:
+    pol = float(run.polarization[-1])
+    if run.reversal < 0.5:
+        state = "the alignment step overshoots: headings flip every step"
+    elif pol > 0.9:
+        state = "one aligned flock"
+    else:
+        state = "not aligned yet"
+    return (f"polarization {pol:.2f} (a random flock: {run.random_polarization:.2f}), "
+            f"heading kept between steps {run.reversal:+.2f}: {state}")
+
+
+def flocking_player(separation: float = 0.3, cohesion: float = 1.0,
+                    alignments=FLOCK_ALIGNMENTS) -> Player:
+    """The flocking widget's alignment slider, precomputed (notebook 10)."""
+    from .nb10_drawings import draw_flock
+    from .nb10_flocking import run_flock
+
+    return parameter_player(
+        run_flock, draw_flock, "alignment", alignments,
+        fixed={"separation": separation, "cohesion": cohesion}, unit="/s",
+        caption=_flock_caption,
+        title="Without a kernel: 150 boids, dt = 0.2 s; slide the alignment weight",
+    )
+
+
 #: The players, by the notebook that shows them (for the site and the tests).
 PLAYERS = {
     "03_stability": stability_player,
     "07_springs": spring_player,
     "08_hair_chains": hair_player,
+    "10_flocking": flocking_player,
 }

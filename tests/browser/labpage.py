@@ -126,6 +126,8 @@ def _verdict(r):
     v = getattr(r, "verdict", None)
     if isinstance(v, str):
         return v.split(":")[0].strip().lower()
+    if hasattr(r, "reversal"):  # a flock: unstable when headings flip between steps
+        return "stable" if r.reversal > 0.5 else "unstable"
     return "stable" if getattr(r, "stable", True) else "unstable"
 print(json.dumps([[v.controls[NAME].value, _verdict(v.result)] for v in gc.get_objects()
                   if isinstance(v, ExplorerView) and NAME in v.controls]))

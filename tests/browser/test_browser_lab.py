@@ -24,6 +24,7 @@ WIDGETS = {
     "07_springs": ("spring_explorer", [("dt (s)", 0.1)], ("k", "k (N/m)"), 350.0, 450.0, True, True),
     "08_hair_chains": ("held_strand_explorer", [], ("k_bend", "k_bend (N/m)"), 9000.0, 9500.0,
                        True, True),
+    "10_flocking": ("flock_explorer", [], ("alignment", "alignment"), 5.0, 8.0, True, False),
 }
 #: Characters drawn only by colour-emoji fonts (default emoji presentation): an empty box
 #: on a machine without one. Outputs should use marks every font has (✓ ✗ ○ …) or words.
@@ -50,6 +51,9 @@ def open_and_run(page, lab, name: str) -> None:
         "differs from what the kernel reports (re-run `make execute` and `make student`)")
     labpage.run_all(page)
     assert labpage.problems(page) == [], f"{name}: errors or warnings after Run All"
+
+
+def check_marks(page, name: str) -> None:
     marks = sorted(set(EMOJI.findall(output_text(page))))
     assert not marks, f"{name}: outputs use {marks}, an empty box without an emoji font"
 
@@ -111,6 +115,7 @@ def test_widget_notebook_runs_and_its_widget_crosses_the_limit(page, lab, name):
             assert options and not any("_" in o for o in options), options
         if name == "08_hair_chains":
             assert check_animations(page) >= 1
+        check_marks(page, name)
     finally:
         lab.shutdown_kernels()
 
@@ -119,6 +124,7 @@ def test_animation_shows_a_frame_and_plays_on_the_first_click(page, lab):
     try:
         open_and_run(page, lab, "01_vector_fields")
         assert check_animations(page) >= 1
+        check_marks(page, "01_vector_fields")
     finally:
         lab.shutdown_kernels()
 
