@@ -62,7 +62,8 @@ def test_worked_example_vortex():
 
 @pytest.mark.parametrize("dt", [0.5, 0.25, 0.1])
 def test_radius_factor_every_step(dt):
-    traj = cl.integrate(cl.fields.vortex, [1.0, 0.0], (0.0, 4 * np.pi), dt)
+    n = round(4 * np.pi / dt)  # about two revolutions, in whole steps
+    traj = cl.integrate(cl.fields.vortex, [1.0, 0.0], (0.0, n * dt), dt)
     r = np.linalg.norm(traj.y, axis=1)
     np.testing.assert_allclose(r[1:] / r[:-1], math.sqrt(1 + dt * dt), rtol=1e-13)
 
@@ -198,7 +199,7 @@ def _pending(*args):
     raise NotImplementedError()
 
 
-@pytest.mark.parametrize("key", ["forward_euler_step", "radius_after", "drift_dt"])
+@pytest.mark.parametrize("key", ["forward_euler_step", "radius_after", "drift_dt", "observed_order"])
 def test_pending(key, capsys):
     status, out = verdict(getattr(check, key), _pending, capsys, key)
     assert status == "pending"
@@ -228,21 +229,160 @@ def test_radius_after_mistakes(wrong, hint, capsys):
 def test_drift_dt_correct(capsys):
     status, out = verdict(check.drift_dt, check.largest_drift_dt, capsys, "drift_dt")
     assert status == "correct", out
-    # anything within the factor and under the bound is accepted
-    status, out = verdict(check.drift_dt, lambda tol: 0.85 * check.largest_drift_dt(tol),
+    assert "tol = 0.037" in out  # a tolerance the text never quotes
+    # brentq with its default tolerances, and a float32 answer, are right too
+    status, out = verdict(check.drift_dt, lambda tol: brentq(
+        lambda dt: (math.pi / dt) * math.log1p(dt * dt) - math.log1p(tol), 1e-9, 1.0), capsys,
+        "drift_dt")
+    assert status == "correct", out
+    status, out = verdict(check.drift_dt, lambda tol: np.float32(check.largest_drift_dt(tol)),
+                          capsys, "drift_dt")
+    assert status == "correct", out
+    status, out = verdict(check.drift_dt, lambda tol: np.array([check.largest_drift_dt(tol)]),
                           capsys, "drift_dt")
     assert status == "correct", out
 
 
 @pytest.mark.parametrize("wrong, hint", [
     (lambda tol: tol / math.pi, "instead of linearising"),
+    (lambda tol: math.log1p(tol) / math.pi, "ln(1 + tol)/π"),
     (lambda tol: check.largest_drift_dt(tol, steps_per_factor=1.0), "not (1 + dt²)^n"),
-    (lambda tol: 0.5 * check.largest_drift_dt(tol), "LARGEST step"),
+    (lambda tol: 0.5 * check.largest_drift_dt(tol), "LARGEST"),
+    # the old check's factor-1.25 window accepted these without solving anything
+    (lambda tol: tol / 3.5, "LARGEST"),
+    (lambda tol: 0.85 * check.largest_drift_dt(tol), "LARGEST"),
     (lambda tol: 1.1 * check.largest_drift_dt(tol), "scipy.optimize.brentq"),
     (lambda tol: -1.0, "expected a step dt > 0"),
-    (lambda tol: "small", "expected a number"),
+    (lambda tol: "small", "expected one number"),
+    (lambda tol: [0.1, 0.2], "expected one number"),
 ])
 def test_drift_dt_mistakes(wrong, hint, capsys):
     status, out = verdict(check.drift_dt, wrong, capsys, "drift_dt")
+    assert status == "incorrect"
+    assert hint in out
+
+
+def test_drift_dt_tolerance_follows_from_the_problem():
+    # a root finder gives the step to ~1e-10; the linearised ln(1.01)/π is 5e-6 off
+    best = check.largest_drift_dt(0.01)
+    assert abs(math.log1p(0.01) / math.pi / best - 1) > 2 * check.DRIFT_RTOL
+    assert abs(math.log1p(0.01) / math.pi / best - 1) == pytest.approx(5e-6, rel=0.1)
+
+
+# --- the forward Euler step: float32, reference from pristine copies -----------------------
+
+
+def test_forward_euler_step_accepts_float32(capsys):
+    status, out = verdict(check.forward_euler_step,
+                          lambda f, t, y, dt: (y + dt * f(t, y)).astype(np.float32), capsys,
+                          "forward_euler_step")
+    assert status == "correct", out
+
+
+def test_radius_after_accepts_float32_and_one_element_arrays(capsys):
+    for answer in (lambda r0, dt, n: np.float32(r0 * (1 + dt**2) ** (n / 2)),
+                   lambda r0, dt, n: np.array([r0 * (1 + dt**2) ** (n / 2)])):
+        status, out = verdict(check.radius_after, answer, capsys, "radius_after")
+        assert status == "correct", out
+
+
+# --- Section 4: the local error, Section 5: the three-grid order ---------------------------
+
+
+def test_local_error_slope_2_and_dt2_over_2():
+    dts, _ = vortex_convergence()
+    local = np.array([np.linalg.norm(cl.integrate(cl.fields.vortex, [1.0, 0.0], (0.0, dt), dt).y[-1]
+                                     - [np.cos(dt), np.sin(dt)]) for dt in dts])
+    # exactly |(1, dt) - (cos dt, sin dt)| = dt²/2 (1 + O(dt²))
+    np.testing.assert_allclose(local, np.hypot(1 - np.cos(dts), dts - np.sin(dts)), rtol=1e-9)
+    assert round(np.polyfit(np.log(dts), np.log(local), 1)[0], 3) == 2.000
+    assert f"{local[-1]:.3e}" == "1.177e-06" and f"{dts[-1] ** 2 / 2:.3e}" == "1.177e-06"
+
+
+def _gyre_ends():
+    from course_lib.lessons import nb02_forward_euler as lesson
+
+    counts = 50 * 2 ** np.arange(8)
+    ends = lesson.euler_endpoints(lesson.double_gyre, np.array([0.6, 0.3]), 10.0, counts)
+    ref = cl.integrate(lesson.double_gyre, [0.6, 0.3], (0.0, 10.0), 10.0 / 20000, "rk4").y[-1]
+    orders = [lesson.three_grid_order(*ends[j:j + 3]) for j in range(6)]
+    return counts, ends, ref, orders
+
+
+def test_three_grid_table_quoted():
+    _, ends, ref, orders = _gyre_ends()
+    assert [round(p, 4) for p in orders] == [-0.6716, 0.714, 1.1102, 1.1212, 1.0743, 1.0401]
+    assert all(abs(p - 1) <= 0.13 for p in orders[2:])          # "within 0.13 of 1"
+    estimate = [np.linalg.norm(ends[j + 1] - ends[j + 2]) for j in range(6)]
+    true = [np.linalg.norm(ends[j + 2] - ref) for j in range(6)]
+    assert round(100 * (estimate[2] / true[2] - 1)) == 13
+    assert round(100 * (estimate[5] / true[5] - 1)) == 2
+    assert f"{ends[0][0]:.2f}" == "1.05" and f"{ref[0]:.2f}" == "0.33"   # across the border
+    # the RK4 reference is converged far below the errors it checks
+    ref2 = cl.integrate(__import__("course_lib.lessons.nb02_forward_euler", fromlist=["x"]).double_gyre,
+                        [0.6, 0.3], (0.0, 10.0), 10.0 / 40000, "rk4").y[-1]
+    assert np.linalg.norm(ref2 - ref) < 1e-9
+
+
+def test_double_gyre_is_divergence_free_with_wall_streamlines():
+    from course_lib.lessons import nb02_forward_euler as lesson
+
+    rng = np.random.default_rng(2026)
+    X = rng.uniform([0, 0], [2, 1], size=(50, 2))
+    h = 1e-6
+    for t in (0.0, 1.7, 4.2):
+        ex, ey = np.array([h, 0.0]), np.array([0.0, h])
+        div = ((lesson.double_gyre(t, X + ex)[:, 0] - lesson.double_gyre(t, X - ex)[:, 0])
+               + (lesson.double_gyre(t, X + ey)[:, 1] - lesson.double_gyre(t, X - ey)[:, 1])) / (2 * h)
+        assert np.max(np.abs(div)) < 1e-7
+        for wall in ([[0.3, 0.0], [1.2, 1.0]], [[0.0, 0.4], [2.0, 0.7]]):
+            V = lesson.double_gyre(t, np.array(wall))
+            normal = 1 if wall[0][1] in (0.0,) and wall[1][1] == 1.0 else 0
+            assert np.allclose(V[:, normal], 0.0, atol=1e-15)
+    # period 10 s
+    np.testing.assert_allclose(lesson.double_gyre(13.0, X), lesson.double_gyre(3.0, X), atol=1e-12)
+
+
+def test_three_grid_order_is_exact_for_a_pure_power_law():
+    from course_lib.lessons import nb02_forward_euler as lesson
+
+    X, C = np.array([1.0, 2.0]), np.array([0.3, -0.4])
+    for p in (1, 2, 3.5):
+        assert lesson.three_grid_order(X + C * 0.1**p, X + C * 0.05**p, X + C * 0.025**p) == \
+            pytest.approx(p, rel=1e-10)
+
+
+def _observed_order(step, f, y0, T, n, log=np.log2, invert=False):
+    ends = []
+    for m in (n, 2 * n, 4 * n):
+        y, dt, t = np.array(y0, dtype=float), T / m, 0.0
+        for _ in range(m):
+            y = step(f, t, y, dt)
+            t += dt
+        ends.append(y)
+    a, b = np.linalg.norm(ends[0] - ends[1]), np.linalg.norm(ends[1] - ends[2])
+    return float(log(b / a) if invert else log(a / b))
+
+
+def test_observed_order_check_accepts_right_answers(capsys):
+    for answer in (_observed_order, lambda *a: np.float32(_observed_order(*a)),
+                   lambda *a: np.array([_observed_order(*a)])):
+        status, out = verdict(check.observed_order, answer, capsys, "observed_order")
+        assert status == "correct", out
+    # the references are near the methods' orders 1, 2, 3, 2
+    got = [check.order_reference(c[1], c[3], c[4], c[5], c[6]) for c in check.ORDER_CASES]
+    assert np.allclose(got, [c[2] for c in check.ORDER_CASES], atol=0.05)
+
+
+@pytest.mark.parametrize("wrong, hint", [
+    (lambda *a: _observed_order(*a, invert=True), "upside down"),
+    (lambda *a: _observed_order(*a, log=np.log), "not the natural log"),
+    (lambda *a: _observed_order(*a, log=np.log10), "not log10"),
+    (lambda step, f, y0, T, n: {"forward_euler": 1}.get("forward_euler"), "p = log2"),
+    (lambda step, f, y0, T, n: np.nan, "expected one number"),
+    (lambda step, f, y0, T, n: _observed_order(step, f, y0, T, n + 1), "p = log2"),
+])
+def test_observed_order_check_rejects_wrong_answers(wrong, hint, capsys):
+    status, out = verdict(check.observed_order, wrong, capsys, "observed_order")
     assert status == "incorrect"
     assert hint in out

@@ -103,6 +103,9 @@ def close(ck: Checker, got, expected, what: str, *, hint: str | None = None,
     """
     expected = np.asarray(expected, dtype=float)
     rtol = rtol_for(got, rtol)
+    single = as_array(got)
+    if single is not None and single.size == expected.size == 1:
+        got = single.reshape(expected.shape)  # a number returned as a (1,) array is a number
     if atol is None:
         atol = max(1e-12, rtol * 1e-3 * (float(np.max(np.abs(expected))) if expected.size else 1.0))
     answer = as_array(got)
@@ -117,3 +120,27 @@ def close(ck: Checker, got, expected, what: str, *, hint: str | None = None,
     return ck.expect(False, what, f"{int(bad.sum())} of {bad.size} values differ; e.g. row "
                      f"{row}: expected {np.round(expected[row], 6)}, got {np.round(answer[row], 6)}",
                      hint)
+
+
+def step_cases(ck: Checker, student: Callable, cases, reference: Callable,
+               mistakes_for: Callable, hint: str, rtol: float = 1e-12) -> None:
+    """Check a student's one-step method ``student(f, t, y, dt)`` on several cases.
+
+    ``cases`` holds ``(what, f, t, y, dt)``; ``reference`` is the course_lib step and
+    ``mistakes_for(f, t, y, dt)`` returns ``{hint: wrong_value}`` for the usual slips. The
+    reference and the mistakes are computed first, from the pristine ``y``; the student gets
+    a copy, and a function that overwrites it fails that case with its own hint. A float32
+    answer is judged at float32 precision.
+    """
+    for what, f, t, y, dt in cases:
+        y = np.asarray(y, dtype=float)
+        expected, mistakes = reference(f, t, y.copy(), dt), mistakes_for(f, t, y.copy(), dt)
+        y_in = y.copy()
+        ok, got = call(ck, what, student, f, t, y_in, dt)
+        if not ok:
+            continue
+        if not np.array_equal(y_in, y):
+            ck.expect(False, what, "your function changed its input y",
+                      "build a new array instead of updating y in place (y += ...)")
+            continue
+        close(ck, got, expected, what, rtol=rtol, hint=hint, mistakes=mistakes)
