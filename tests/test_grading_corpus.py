@@ -22,7 +22,7 @@ from course_lib.instructor.grade import grade_class
 from course_lib.instructor.sandbox import Limits
 from course_lib.instructor.verdicts import FIELDS, STATUSES
 
-LIMITS = Limits(deadline=40, cell_s=4, exercise_s=3, memory_mb=1024, grace=1.5)
+LIMITS = Limits(deadline=60, cell_s=10, exercise_s=4, memory_mb=1024, grace=1.5)
 
 
 def digest(folder: Path) -> dict[str, str]:

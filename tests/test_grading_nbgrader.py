@@ -127,4 +127,7 @@ def test_autograde_scores_correct_blank_and_wrong(course):
     with (root / "grades.csv").open() as fh:
         scores = {r["student_id"]: (float(r["score"]), float(r["max_score"]))
                   for r in csv.DictReader(fh) if r["assignment"] == A02}
-    assert scores == {"correct": (3.0, 3.0), "blank": (0.0, 3.0), "wrong": (2.0, 3.0)}
+    a02 = load_kit(ROOT / "solutions")[A02]
+    full, first = float(a02.possible), float(a02.exercises[0].points)  # the wrong one: forward_euler_step
+    assert a02.exercises[0].name == "forward_euler_step"
+    assert scores == {"correct": (full, full), "blank": (0.0, full), "wrong": (full - first, full)}
