@@ -50,7 +50,16 @@ def execute(path: Path, timeout: int = 600) -> nbformat.NotebookNode:
 
 
 def _execute_json(path: str, timeout: int) -> str:
-    return nbformat.writes(execute(Path(path), timeout))
+    """The executed notebook as JSON, or ``"error: ..."`` naming the failing cell."""
+    from nbclient.exceptions import CellExecutionError, CellTimeoutError
+
+    try:
+        return nbformat.writes(execute(Path(path), timeout))
+    except (CellExecutionError, CellTimeoutError) as exc:
+        parts = str(exc).split("------------------\n")  # message, cell source, output
+        source = parts[1].strip().splitlines()[0][:70] if len(parts) > 1 else "?"
+        what = f"{getattr(exc, 'ename', type(exc).__name__)} {getattr(exc, 'evalue', '')}"
+        return f"error: {Path(path).stem}: {what.strip()} in the cell starting {source!r}"
 
 
 def has_player(nb: nbformat.NotebookNode) -> bool:
@@ -114,6 +123,10 @@ def build(out: Path, source: Path, *, only=None, run: bool = True, solutions: bo
     if run:
         with ProcessPoolExecutor(max_workers=max(1, jobs)) as pool:
             texts = list(pool.map(_execute_json, [str(p) for p in paths], [600] * len(paths)))
+        failed = [t[len("error: "):] for t in texts if t.startswith("error: ")]
+        if failed:
+            raise RuntimeError("not published, these notebooks do not run:\n  " +
+                               "\n  ".join(failed) + "\n(`make execute NB=...` shows the error)")
         notebooks = [nbformat.reads(t, as_version=4) for t in texts]
         log(f"executed {len(paths)} notebooks in {time.perf_counter() - t0:.0f} s")
     else:

@@ -59,6 +59,26 @@ def run_all(page, timeout: float = 400) -> float:
     raise AssertionError(f"Run All did not finish in {timeout:.0f} s; cells not run: {pending}")
 
 
+def rerun(page, index: int) -> None:
+    """Run cell ``index`` again (as a student does, out of order) and wait for the kernel."""
+    page.evaluate(f"""async (i) => {{
+        const w = {NB};
+        w.content.activeCellIndex = i;
+        await window.jupyterapp.commands.execute('notebook:run-cell');
+      }}""", index)
+    page.wait_for_function(READY, timeout=120_000, polling=250)
+
+
+def outputs_of(page, index: int) -> list[str]:
+    """The output types (and mime types) of cell ``index``."""
+    return page.evaluate(f"""(i) => {{
+        const outs = {NB}.content.widgets[i].model.outputs;
+        return Array.from({{length: outs.length}}, (_, j) => {{
+          const o = outs.get(j); return o.type + ':' + Object.keys(o.data || {{}}).join(',');
+        }});
+      }}""", index)
+
+
 def problems(page) -> list[str]:
     """Error outputs and stderr text of every code cell (from the model, not the DOM)."""
     return page.evaluate(f"""() => {{

@@ -4,7 +4,8 @@ Each notebook with a widget (the student version, as ``make lab`` serves it on a
 machine) must open unmodified, run top to bottom without an error or a warning, and its
 widget must answer a control moved across a stability limit with a new verdict and a new
 picture (and a sign that it worked, for the slow ones). Animations must show a frame
-before any click, play on the first click and not make the page jump. Outputs must use
+before any click, play on the first click and not make the page jump; cells re-run out of
+order after Run All must not raise. Outputs must use
 marks every font has, and the first launch must be quiet.
 """
 
@@ -124,6 +125,13 @@ def test_animation_shows_a_frame_and_plays_on_the_first_click(page, lab):
     try:
         open_and_run(page, lab, "01_vector_fields")
         assert check_animations(page) >= 1
+        # re-running cells out of order (the whirlpool's cell, the one two above it, then it
+        # again) raises nothing and leaves one player, no stray figure
+        anim = labpage.find_cell(page, "animation_html")
+        for i in (anim, anim - 2, anim):
+            labpage.rerun(page, i)
+        assert labpage.problems(page) == [], "re-running cells after Run All raised"
+        assert len(labpage.outputs_of(page, anim)) == 1, labpage.outputs_of(page, anim)
         check_marks(page, "01_vector_fields")
     finally:
         lab.shutdown_kernels()
