@@ -117,8 +117,8 @@ def test_closed_form_equals_amplification_factor(method, th):
 @pytest.mark.parametrize("method", ONE_STEP)
 def test_measured_radius_ratio(method):
     dt = 0.5
-    traj = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 10 * np.pi), dt, method=method)
-    assert traj.n_steps == 63
+    traj = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 63 * dt), dt, method=method)
+    assert traj.n_steps == 63 and 63 * dt / (2 * np.pi) == pytest.approx(5.0, abs=0.02)
     r = np.linalg.norm(traj.y, axis=1)
     np.testing.assert_allclose(r[1:] / r[:-1], closed_form_radius_factor(method, dt), rtol=1e-10)
 
@@ -255,7 +255,7 @@ def test_midpoint_step_mistakes(wrong, hint, capsys):
     assert hint in out
 
 
-@pytest.mark.parametrize("key", ["midpoint_step", "backward_euler_decay"])
+@pytest.mark.parametrize("key", ["midpoint_step", "backward_euler_decay", "implicit_midpoint_step"])
 def test_pending(key, capsys):
     def stub(*args):
         raise NotImplementedError()
@@ -288,6 +288,7 @@ def test_backward_euler_decay_correct(capsys):
     (lambda x0, k, dt, n: x0 * np.exp(-k * dt * np.arange(n + 1)), "exact solution"),
     (lambda x0, k, dt, n: x0 / (1 + k) ** np.arange(n + 1), "left out dt"),
     (lambda x0, k, dt, n: x0 / (1 + k * dt) ** np.arange(1, n + 1), "initial value"),
+    (lambda x0, k, dt, n: x0 / (1 + k * dt) ** np.arange(n), "the last value x_n is missing"),
     (lambda x0, k, dt, n: x0 / (1 + k * dt) ** np.arange(n + 2), "expected shape"),
 ])
 def test_backward_euler_decay_mistakes(wrong, hint, capsys):
@@ -321,8 +322,8 @@ def test_midpoint_and_heun_identical_on_constant_linear_field():
     for m in ("midpoint", "heun"):
         np.testing.assert_allclose(cl.step(m, cl.fields.vortex, 0.0, X, dt), step @ X,
                                    rtol=1e-15, atol=1e-15)
-    a = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 10 * np.pi), dt, method="midpoint")
-    b = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 10 * np.pi), dt, method="heun")
+    a = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 63 * dt), dt, method="midpoint")
+    b = cl.integrate(cl.fields.vortex, [0.0, 1.0], (0.0, 63 * dt), dt, method="heun")
     np.testing.assert_allclose(a.y, b.y, rtol=1e-13, atol=1e-13)
 
 
@@ -357,3 +358,167 @@ def test_trapezoid_keeps_quadratic_invariant_only_on_linear_fields():
     for _ in range(200):
         Ym = X + dt * swirl(0.0, (X + Ym) / 2)
     assert np.linalg.norm(Ym) == pytest.approx(np.linalg.norm(X), rel=1e-12)
+
+
+# --- Section 3: the leading error term of R, method by method ------------------------------
+
+
+@pytest.mark.parametrize(("method", "p", "C"), [
+    ("forward_euler", 1, -1 / 2), ("midpoint", 2, -1 / 6), ("heun", 2, -1 / 6),
+    ("rk4", 4, -1 / 120), ("backward_euler", 1, 1 / 2), ("trapezoidal", 2, 1 / 12),
+])
+def test_leading_constant_C(method, p, C):
+    # R(z) = e^z + C z^(p+1) + ...: C = -1/(p+1)! only for the explicit methods with as many
+    # stages as order; backward Euler has +1/2, the trapezoid +1/12
+    for z in (1e-2, 1e-2j, -1e-2 + 5e-3j):
+        lead = (cl.amplification_factor(method, z) - np.exp(z)) / z ** (p + 1)
+        assert lead == pytest.approx(C, rel=0.05)
+    if method in ("backward_euler", "trapezoidal"):
+        assert C != -1 / math.factorial(p + 1)
+
+
+# --- Section 5: the stiff follower -----------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def stiff():
+    from course_lib.lessons import nb04_beyond_euler as lesson
+
+    counts = 2 ** np.arange(4, 15)
+    methods = ["forward_euler", "midpoint", "rk4", "backward_euler", "trapezoidal"]
+    rows = (lesson.cost_study(methods[:3], counts)
+            + lesson.cost_study(methods[3:], counts[counts <= 2048]))
+    return lesson, rows
+
+
+def test_follower_exact_solution_solves_the_ode():
+    from course_lib.lessons import nb04_beyond_euler as lesson
+
+    f, jac, exact = lesson.follower()
+    X0, h = np.array([0.0, 0.0]), 1e-7
+    for t in (1e-4, 2e-3, 0.5, 3.0):
+        dX = (exact(t + h, X0) - exact(t - h, X0)) / (2 * h)
+        np.testing.assert_allclose(dX, f(t, exact(t, X0)), rtol=1e-5, atol=1e-5)
+    np.testing.assert_allclose(exact(0.0, X0), X0, atol=1e-15)
+    np.testing.assert_allclose(jac, -1000.0 * np.eye(2))
+    # after the catch-up the particle lags the target by about 1/κ rad
+    late = exact(2.0, X0)
+    lag = 2.0 - math.atan2(late[1], late[0])
+    assert lag == pytest.approx(math.atan(1 / 1000), rel=1e-9)
+    with pytest.raises(ValueError, match="kappa"):
+        lesson.follower(0.0)
+
+
+def test_stiff_limits_quoted():
+    assert 2 * math.pi * 1000 / 2.785293563405282 == pytest.approx(2256, abs=0.5)
+    assert 1000 * 2 * math.pi / 4096 == pytest.approx(1.5, abs=0.04)        # "κ dt ≈ 1.5"
+    assert 1000 * 2 * math.pi / 2048 > 2.785                             # RK4 unstable at 2048
+    z = -1000 * 2 * math.pi / 64
+    assert round(-z) == 98
+    assert cl.amplification_factor("trapezoidal", z).real == pytest.approx(-0.96, abs=0.001)
+    assert -48 / 50 == -0.96
+    assert cl.amplification_factor("backward_euler", z).real == pytest.approx(1 / 99, rel=0.01)
+
+
+def test_stiff_cost_table_quoted(stiff):
+    lesson, rows = stiff
+    for m in ("forward_euler", "midpoint", "rk4"):
+        for r in rows:
+            if r.method == m:
+                assert np.isfinite(r.error) == (r.steps >= 4096), (m, r)
+    quoted = {"forward_euler": (4096, 4096), "midpoint": (4096, 8192), "rk4": (4096, 16384),
+              "backward_euler": (32, 64), "trapezoidal": (128, 384)}
+    for m, (steps, nfev) in quoted.items():
+        best = lesson.cheapest(rows, m, 1e-4)
+        assert (best.steps, best.nfev) == (steps, nfev), (m, best)
+    assert 4096 / 64 == 64 and 16384 / 64 == 256
+    be = lesson.cheapest(rows, "backward_euler", 1e-4)
+    assert f"{be.error:.1e}" == "9.8e-05"
+
+
+def test_trapezoid_flips_the_catch_up_gap(stiff):
+    lesson, _ = stiff
+    f, jac, exact = lesson.follower()
+    run = cl.integrate(f, [0.0, 0.0], (0.0, 2 * np.pi), 2 * np.pi / 64, "trapezoidal", jac=jac)
+    gap = run.y[:8, 0] - exact(run.t[:8], [0.0, 0.0])[:, 0]
+    assert np.all(np.sign(gap[1:-1]) != np.sign(gap[2:]))      # flips every step
+    assert abs(gap[6]) > 0.7                                      # and hardly decays
+    be = cl.integrate(f, [0.0, 0.0], (0.0, 2 * np.pi), 2 * np.pi / 64, "backward_euler", jac=jac)
+    assert abs(be.y[1, 0] - exact(be.t[1], [0.0, 0.0])[0]) < 0.02  # gone after one step
+
+
+# --- Exercise 3: the implicit midpoint rule ----------------------------------------------------
+
+
+def _imr_newton(f, t, y, dt):
+    y = np.asarray(y, dtype=float)
+
+    def residual(Y):
+        return Y - y - dt * f(t + 0.5 * dt, 0.5 * (y + Y))
+
+    Y = y + dt * f(t, y)
+    for _ in range(30):
+        r = residual(Y)
+        if np.max(np.abs(r)) < 1e-14:
+            break
+        jac = np.empty((y.size, y.size))
+        for j in range(y.size):
+            e = np.zeros(y.size)
+            e[j] = 1e-7
+            jac[:, j] = (residual(Y + e.reshape(y.shape)) - r).ravel() / 1e-7
+        Y = Y - np.linalg.solve(jac, r.ravel()).reshape(y.shape)
+    return Y
+
+
+def _imr_fixed_point(f, t, y, dt, iterations=200):
+    Y = np.array(y, dtype=float)
+    with np.errstate(all="ignore"):
+        for _ in range(iterations):
+            Y = y + dt * f(t + 0.5 * dt, 0.5 * (y + Y))
+    return Y
+
+
+def test_implicit_midpoint_accepts_right_answers(capsys):
+    for answer in (_imr_newton,
+                   lambda f, t, y, dt: 2 * cl.backward_euler(f, t, y, dt / 2) - y,
+                   lambda f, t, y, dt: _imr_newton(f, t, y, dt).astype(np.float32)):
+        status, out = verdict(check.implicit_midpoint_step, answer, capsys,
+                              "implicit_midpoint_step")
+        assert status == "correct", out
+    assert "(and |Y| = |y|)" in out
+
+
+def test_implicit_midpoint_keeps_the_swirls_radius_and_solves_its_equation():
+    for what, f, t, y, dt, keeps in check.MIDPOINT_RULE_CASES:
+        y = np.asarray(y, dtype=float)
+        Y = check.implicit_midpoint_reference(f, t, y, dt)
+        res = Y - y - dt * f(t + 0.5 * dt, 0.5 * (y + Y))
+        assert np.max(np.abs(res)) < 1e-12, what
+        if keeps:
+            assert np.linalg.norm(Y) == pytest.approx(np.linalg.norm(y), rel=1e-12), what
+    # on the swirl the trapezoid does not keep it (Section 3's claim)
+    y = np.array([1.0, 0.5])
+    assert abs(np.linalg.norm(cl.trapezoidal(check.swirl, 0.0, y, 0.4)) - np.linalg.norm(y)) > 1e-4
+    # stiff decay: R = (1 + z/2)/(1 - z/2) at z = -25, and fixed point diverges (12.5 > 1)
+    Y = check.implicit_midpoint_reference(lambda t, u: -50.0 * u, 0.0, np.array([1.0]), 0.5)
+    assert Y[0] == pytest.approx(-11.5 / 13.5, rel=1e-12)
+    assert np.abs(_imr_fixed_point(lambda t, u: -50.0 * u, 0.0, np.array([1.0]), 0.5)[0]) > 1e100
+
+
+@pytest.mark.parametrize("wrong, hint", [
+    (_imr_fixed_point, "diverged"),
+    (lambda f, t, y, dt: cl.trapezoidal(f, t, y, dt), "that is the trapezoid"),
+    (lambda f, t, y, dt: y + dt * f(t + 0.5 * dt, y + 0.5 * dt * f(t, y)), "EXPLICIT midpoint"),
+    (lambda f, t, y, dt: _imr_newton(lambda s, u: f(t, u), t, y, dt), "time t + dt/2"),
+    (lambda f, t, y, dt: _imr_fixed_point(f, t, y, dt, iterations=2), "residual"),
+])
+def test_implicit_midpoint_rejects_wrong_answers(wrong, hint, capsys):
+    status, out = verdict(check.implicit_midpoint_step, wrong, capsys, "implicit_midpoint_step")
+    assert status == "incorrect"
+    assert hint in out
+
+
+def test_midpoint_step_accepts_float32(capsys):
+    status, out = verdict(check.midpoint_step, lambda f, t, y, dt: _midpoint(f, t, y, dt).astype(
+        np.float32), capsys, "midpoint_step")
+    assert status == "correct", out

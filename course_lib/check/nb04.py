@@ -7,6 +7,10 @@ Exercises:
 - :func:`backward_euler_decay`: backward Euler on ``dx/dt = -k x`` in closed form,
   ``x_n = x0 / (1 + k dt)^n``, compared with both the formula and the general implicit
   solver (``course_lib.integrate(..., method="backward_euler")``, Newton's method).
+- :func:`implicit_midpoint_step`: one step of the implicit midpoint rule, solved to
+  round-off, checked on nonlinear, time-dependent, many-particle and stiff problems (where
+  fixed-point iteration diverges) against an independent solve, and for keeping ``|X|``
+  exactly on a nonlinear swirl.
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ import numpy as np
 from .. import fields
 from ..integrators import integrate, midpoint
 from . import Checker, exercise
+from ._answers import as_array, call, close, rtol_for, step_cases
 
 _START_TWICE = (
     "you used the start slope f(t, y) for the whole step (that is forward Euler): take "
@@ -74,8 +79,8 @@ def midpoint_step(ck: Checker, student) -> None:
             _RETURNED_MID: y_mid,
         }
 
-    ck.one_step_cases(student, _MIDPOINT_CASES, midpoint, mistakes,
-                      hint="y_mid = y + (dt/2) f(t, y); y_next = y + dt f(t + dt/2, y_mid)")
+    step_cases(ck, student, _MIDPOINT_CASES, midpoint, mistakes,
+               hint="y_mid = y + (dt/2) f(t, y); y_next = y + dt f(t + dt/2, y_mid)")
 
 
 _DECAY_CASES = [(1.0, 1.0, 0.1, 10), (2.0, 5.0, 0.5, 6), (1.0, 100.0, 0.1, 5), (3.0, 0.5, 2.0, 0)]
@@ -103,10 +108,20 @@ def backward_euler_decay(ck: Checker, student) -> None:
         newton = decay_newton(x0, k, dt, n)
         # The two references must agree, or the comparison below would mean nothing.
         assert np.allclose(formula, newton, rtol=1e-12, atol=1e-15)
-        got = np.asarray(student(x0, k, dt, n), dtype=float)
-        if got.shape == (n,) and n > 0:
-            ck.expect(False, what, f"expected {n + 1} values x_0 ... x_n, got {n}",
-                      "include the initial value x_0 = x0 as the first entry")
+        ok, got = call(ck, what, student, x0, k, dt, n)
+        if not ok:
+            continue
+        answer = as_array(got)
+        if answer is not None and answer.shape == (n,) and n > 0:
+            # One value short: which end is missing?
+            if np.allclose(answer, formula[1:], rtol=rtol_for(answer, 1e-10)):
+                hint = "include the initial value x_0 = x0 as the first entry"
+            elif np.allclose(answer, formula[:-1], rtol=rtol_for(answer, 1e-10)):
+                hint = ("your array stops at x_(n-1): the last value x_n is missing (n steps "
+                        "give n + 1 values)")
+            else:
+                hint = "return the n + 1 values x_0, x_1, ..., x_n"
+            ck.expect(False, what, f"expected {n + 1} values x_0 ... x_n, got {n}", hint)
             continue
         j = np.arange(n + 1)
         mistakes = {
@@ -118,7 +133,123 @@ def backward_euler_decay(ck: Checker, student) -> None:
                 x0 * np.exp(-k * dt * j),
             "the factor is 1/(1 + k dt): you left out dt": x0 / (1.0 + k) ** j,
         }
-        ok = ck.close(got, formula, what, rtol=1e-10, atol=1e-15,
-                      hint="x_n = x0 / (1 + k dt)^n", mistakes=mistakes)
+        ok = close(ck, got, formula, what, rtol=1e-10, atol=1e-15,
+                   hint="x_n = x0 / (1 + k dt)^n", mistakes=mistakes)
         if ok:
             ck.passed[-1] += " (matches the closed form and course_lib's Newton solver)"
+
+
+# --- the implicit midpoint rule ----------------------------------------------------------
+
+_J = np.array([[0.0, -1.0], [1.0, 0.0]])
+
+
+def swirl(t, X):
+    """A nonlinear vortex, ``V = (1 + x) (-y, x)``: ``|X|`` is invariant, the speed is not."""
+    X = np.asarray(X, dtype=float)
+    return (1.0 + X[..., :1]) * np.stack((-X[..., 1], X[..., 0]), axis=-1)
+
+
+def _pendulum(t, y):
+    return np.array([y[1], -np.sin(y[0])])
+
+
+def _stiff(t, y):
+    return -50.0 * y
+
+
+#: (description, f, t, y, dt, keeps |y|).
+MIDPOINT_RULE_CASES = [
+    ("the swirl V = (1 + x)(-y, x) from (1, 0.5), dt = 0.4", swirl, 0.0, [1.0, 0.5], 0.4, True),
+    ("a pendulum θ'' = -sin θ from (2, 0), dt = 0.3", _pendulum, 0.0, [2.0, 0.0], 0.3, False),
+    ("the pulsing vortex at t = 0.7, dt = 0.4 (time-dependent)", pulsing_vortex, 0.7,
+     [0.8, -0.6], 0.4, True),
+    ("5 particles in the swirl, y of shape (5, 2), dt = 0.2", swirl, 0.0,
+     [[0.3, 0.1], [0.5, -0.4], [-0.2, 0.6], [0.1, 0.1], [-0.5, -0.3]], 0.2, False),
+    ("a stiff decay dy/dt = -50 y, dt = 0.5 (dt |∂f/∂y| / 2 = 12.5)", _stiff, 0.0, [1.0], 0.5,
+     False),
+]
+
+
+def implicit_midpoint_reference(f, t, y, dt):
+    """``Y = y + dt f(t + dt/2, (y + Y)/2)``, solved by ``scipy.optimize.root`` to 1e-14."""
+    from scipy.optimize import root
+
+    y = np.asarray(y, dtype=float)
+
+    def residual(flat):
+        Y = flat.reshape(y.shape)
+        return (Y - y - dt * f(t + 0.5 * dt, 0.5 * (y + Y))).ravel()
+
+    guess = (y + dt * f(t, y)).ravel()
+    sol = root(residual, guess, tol=1e-14)
+    return sol.x.reshape(y.shape)
+
+
+@exercise
+def implicit_midpoint_step(ck: Checker, student) -> None:
+    """``student(f, t, y, dt)``: the implicit midpoint rule, solved to round-off."""
+    for what, f, t, y, dt, keeps_norm in MIDPOINT_RULE_CASES:
+        y = np.asarray(y, dtype=float)
+        expected = implicit_midpoint_reference(f, t, y, dt)
+        mid = y + 0.5 * dt * f(t, y)
+        with np.errstate(all="ignore"):
+            mistakes = {
+                "that is the trapezoid: the implicit midpoint evaluates f once, at the average "
+                "state (y + Y)/2 and time t + dt/2": _trapezoid_reference(f, t, y, dt),
+                "that is the EXPLICIT midpoint: here the midpoint state is (y + Y)/2, with the "
+                "unknown end Y; solve for Y": y + dt * f(t + 0.5 * dt, mid),
+                "evaluate f at the middle of the step, time t + dt/2, not at t":
+                    implicit_midpoint_reference(lambda s, u, f=f, t=t: f(t, u), t, y, dt),
+            }
+        y_in = y.copy()
+        ok, got = call(ck, what, student, f, t, y_in, dt)
+        if not ok:
+            continue
+        if not np.array_equal(y_in, y):
+            ck.expect(False, what, "your function changed its input y",
+                      "build a new array instead of updating y in place")
+            continue
+        answer = as_array(got)
+        if answer is not None and answer.shape == y.shape and not np.all(np.isfinite(answer)):
+            ck.expect(False, what, "your step returned NaN or inf",
+                      "fixed-point iteration Y <- y + dt f(t + dt/2, (y + Y)/2) diverges when "
+                      "dt |∂f/∂y| / 2 > 1 (a stiff problem): use Newton's method on the "
+                      "residual, with a finite-difference Jacobian")
+            continue
+        # The residual names the failure for a float64 answer; a float32 one is judged on
+        # its value alone (its rounding alone leaves a residual of ~1e-7).
+        if answer is not None and answer.shape == y.shape and rtol_for(answer, 1e-9) == 1e-9:
+            res = answer - y - dt * f(t + 0.5 * dt, 0.5 * (y + answer))
+            scale = max(1.0, float(np.max(np.abs(y))))
+            if np.max(np.abs(res)) > 1e-8 * scale and not np.allclose(answer, expected, rtol=1e-9):
+                hint = None
+                if np.max(np.abs(answer)) > 10 * scale:
+                    hint = ("your iteration diverged: fixed-point iteration Y <- y + dt f(t + dt/2, "
+                            "(y + Y)/2) only converges when dt |∂f/∂y| / 2 < 1. Use Newton's "
+                            "method on the residual, with a finite-difference Jacobian")
+                for mistake, wrong in ({} if hint else mistakes).items():
+                    if np.allclose(answer, wrong, rtol=rtol_for(answer, 1e-9), atol=1e-12):
+                        hint = mistake
+                        break
+                ck.expect(False, what, f"your Y leaves a residual of {np.max(np.abs(res)):.2g} in "
+                          "Y - y - dt f(t + dt/2, (y + Y)/2) = 0",
+                          hint or "iterate until the residual is at round-off (a few Newton "
+                          "steps; fixed-point iteration converges slowly or not at all)")
+                continue
+        if close(ck, got, expected, what, rtol=1e-9, atol=1e-12,
+                 hint="Y = y + dt f(t + dt/2, (y + Y)/2), solved for Y", mistakes=mistakes) \
+                and keeps_norm and answer.ndim == 1:
+            ck.passed[-1] += " (and |Y| = |y|)"
+
+
+def _trapezoid_reference(f, t, y, dt):
+    from scipy.optimize import root
+
+    f0 = f(t, y)
+
+    def residual(flat):
+        Y = flat.reshape(y.shape)
+        return (Y - y - 0.5 * dt * (f0 + f(t + dt, Y))).ravel()
+
+    return root(residual, (y + dt * f0).ravel(), tol=1e-14).x.reshape(y.shape)
