@@ -26,12 +26,21 @@ STUB = "    # YOUR CODE HERE\n    raise NotImplementedError()"
 
 
 class Sub:
-    """A submission under construction: the student version, with answers filled in."""
+    """A submission under construction: the student version, with answers filled in.
 
-    def __init__(self, assignment: str):
+    ``full=False`` leaves out the kit's demonstration code cells (the imports, the
+    exercises and all Markdown stay): they are the kit's own code, untouched, and most of
+    the running time; a few kinds keep them to show whole notebooks are graded alike.
+    """
+
+    def __init__(self, assignment: str, full: bool = False):
         self.assignment = assignment
         self.solution = nbformat.read(ROOT / "solutions" / f"{assignment}.ipynb", as_version=4)
         self.nb = make_student_notebook(self.solution)
+        if not full:
+            code = [c for c in self.nb.cells if c.cell_type == "code"]
+            self.nb.cells = [c for c in self.nb.cells if c.cell_type != "code" or c is code[0]
+                             or any(f"def {name}(" in c.source for name in EX[assignment])]
 
     def _cell(self, name: str, nb=None):
         nb = nb or self.nb
@@ -53,8 +62,10 @@ class Sub:
         cell.source = cell.source.replace(old, new)
         return self
 
-    def add(self, source: str, at: int = 2) -> Sub:
-        self.nb.cells.insert(at, nbformat.v4.new_code_cell(textwrap.dedent(source).strip()))
+    def add(self, source: str, at: int | None = 2) -> Sub:
+        """Insert a code cell at ``at`` (default: right after the imports; None: at the end)."""
+        cell = nbformat.v4.new_code_cell(textwrap.dedent(source).strip())
+        self.nb.cells.insert(len(self.nb.cells) if at is None else at, cell)
         return self
 
     def write(self, path: Path, version: int = 4) -> Path:
@@ -90,12 +101,12 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
 
     ok02, ok05 = _all("correct", A02), _all("correct", A05)
     student("correct_02", s02=ok02)
-    Sub(A02).solve().write(nb02("correct_02"))
+    Sub(A02, full=True).solve().write(nb02("correct_02"))
     student("correct_05", s05=ok05)
-    Sub(A05).solve().write(nb05("correct_05"))
+    Sub(A05, full=True).solve().write(nb05("correct_05"))
     student("blank_both", s02=_all("pending", A02), s05=_all("pending", A05))
-    Sub(A02).write(nb02("blank_both"))
-    Sub(A05).write(nb05("blank_both"))
+    Sub(A02, full=True).write(nb02("blank_both"))
+    Sub(A05, full=True).write(nb05("blank_both"))
     student("partial_05", s05=_all("pending", A05, symplectic_euler_step="correct", impact_time="correct"))
     Sub(A05).solve("symplectic_euler_step", "impact_time").write(nb05("partial_05"))
     student("wrong_02", s02=_all("pending", A02, forward_euler_step="incorrect", radius_after="incorrect"))
@@ -143,7 +154,7 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
         from course_lib.check import RESULTS
         for key in ("nb02.forward_euler_step", "nb02.radius_after", "nb02.drift_dt"):
             RESULTS[key] = {"status": "correct", "passed": 4, "total": 4, "points": 100}
-        """, at=len(Sub(A02).nb.cells)).write(nb02("tamper_results_02"))
+        """, at=None).write(nb02("tamper_results_02"))
     student("tamper_patch_05", s05=tampered05)
     Sub(A05).add("""
         import course_lib.check as C
@@ -170,7 +181,7 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
     Sub(A02).add("""
         print("\\u2705 forward_euler_step: correct (4 of 4 checks passed)")
         print("@@GRADE@@" + '{"nb02.forward_euler_step": {"status": "correct", "points": 1300}}')
-        """, at=len(Sub(A02).nb.cells)).write(nb02("forged_output_02"))
+        """, at=None).write(nb02("forged_output_02"))
     student("invalid_json_02", s02=_all("unreadable", A02))
     nb02("invalid_json_02").write_text('{"cells": [ {"cell_type": "code", "source": "x = ', "utf-8")
     student("empty_file_05", s05=_all("unreadable", A05))
@@ -207,7 +218,7 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
     (fake / "__init__.py").write_text("")
     (fake / "nb02.py").write_text("def __getattr__(name):\n    return lambda fn: print('correct')\n")
     student("nbformat_v3_05", s05=ok05)
-    Sub(A05).solve().write(nb05("nbformat_v3_05"), version=3)
+    Sub(A05, full=True).solve().write(nb05("nbformat_v3_05"), version=3)
     student("odd_extension_02", s02=ok02)
     Sub(A02).solve().write(root / "odd_extension_02" / "02_Forward_Euler (1).ipynb.json")
     student("several_notebooks", s02=ok02, s05=_all("pending", A05))
