@@ -386,3 +386,10 @@ def test_observed_order_check_rejects_wrong_answers(wrong, hint, capsys):
     status, out = verdict(check.observed_order, wrong, capsys, "observed_order")
     assert status == "incorrect"
     assert hint in out
+
+
+def test_exercise_4_wording():
+    # "a pendulum swinging to 115°" (θ0 = 2 rad), "orders 1, 2 and 3", "n = 50, ..., 6400"
+    assert round(math.degrees(2.0)) == 115
+    assert sorted({c[2] for c in check.ORDER_CASES}) == [1, 2, 3]
+    assert list(50 * 2 ** np.arange(8))[-1] == 6400

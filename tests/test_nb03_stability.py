@@ -336,3 +336,10 @@ def test_kernel_free_player_quoted():
     assert min(kernel_free.STABILITY_DTS) == 0.05 and max(kernel_free.STABILITY_DTS) == 4.0
     assert any(dt < 2.0 < nxt for dt, nxt in zip(kernel_free.STABILITY_DTS,
                                                   kernel_free.STABILITY_DTS[1:]))
+
+
+def test_exercise_wording():
+    assert len(check.HIDDEN_METHODS) == 3          # "three methods this notebook never shows"
+    assert check.LIMIT_RTOL == 0.02                # "within 2 % of the true limit"
+    assert len(check.LIMIT_CASES) == 3             # "three linear systems"
+    assert len(check.MATRIX_CASES) == 10           # "the check tries ten matrices"
