@@ -92,4 +92,4 @@ present: $(STAMP)
 	$(BIN)/python -m course_lib.instructor.present $(NB) $(PRESENT_ARGS)
 
 test-browser: $(STAMP)
-	$(PYTEST) tests/browser -p no:cacheprovider || test $$? -eq 5
+	$(PYTEST) tests/browser -p no:cacheprovider --basetemp=build/browser-tmp || test $$? -eq 5

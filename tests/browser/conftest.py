@@ -32,10 +32,26 @@ SHOTS = ROOT / "build" / "browser-screenshots"
 TOKEN = "course-browser-test"
 
 
+def _asked_for(config) -> bool:
+    """Whether this folder (or a file in it) was named on the command line."""
+    targets = [Path(str(a).split("::")[0]).resolve() for a in config.args]
+    return any(t == HERE or HERE in t.parents for t in targets)
+
+
+def pytest_configure(config):
+    """A run stopped with SIGTERM (a CI timeout) still stops its servers: the signal becomes
+    a KeyboardInterrupt, after which pytest runs the fixtures' teardown."""
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    if _asked_for(config):
+        signal.signal(signal.SIGTERM, interrupt)
+
+
 def pytest_ignore_collect(collection_path, config):
     """Collect this folder only when asked for by path (``pytest tests/browser``)."""
-    targets = [Path(str(a).split("::")[0]).resolve() for a in config.args]
-    return not any(t == HERE or HERE in t.parents for t in targets)
+    return not _asked_for(config)
 
 
 @pytest.hookimpl(wrapper=True)
