@@ -5,10 +5,10 @@ and calls one right after an exercise: ``check.advect_step(advect_step)``. A che
 the student's function on a few cases, compares with the reference answer and prints
 one verdict:
 
-- ``✅ correct`` with what was verified;
-- ``❌`` with each failed case: what was expected, what came back, and a hint aimed at the
+- ``✓ correct`` with what was verified;
+- ``✗`` with each failed case: what was expected, what came back, and a hint aimed at the
   usual mistake when the answer matches one (e.g. the slope taken at the end of the step);
-- ``⏳ pending`` while the function still raises ``NotImplementedError`` (so a blank
+- ``○ pending`` while the function still raises ``NotImplementedError`` (so a blank
   student notebook runs top to bottom).
 
 Every verdict is also recorded in :data:`RESULTS`, which the grader reads
@@ -132,14 +132,14 @@ def exercise(func: Callable | None = None, *, points: int = 1, reference: tuple 
         status, passed, failed = verdict["status"], verdict["passed_cases"], verdict["failed_cases"]
         RESULTS[key] = {k: verdict[k] for k in ("status", "passed", "total", "points")}
         if status == "pending":
-            print(f"⏳ {func.__name__}: pending — replace `raise NotImplementedError()` with your code, "
+            print(f"○ {func.__name__}: pending — replace `raise NotImplementedError()` with your code, "
                   "then run this cell again.")
         elif status == "correct":
-            print(f"✅ {func.__name__}: correct ({len(passed)} of {verdict['total']} checks passed)")
+            print(f"✓ {func.__name__}: correct ({len(passed)} of {verdict['total']} checks passed)")
             for what in passed:
                 print(f"   ✓ {what}")
         else:
-            print(f"❌ {func.__name__}: {len(failed)} of {verdict['total']} checks failed")
+            print(f"✗ {func.__name__}: {len(failed)} of {verdict['total']} checks failed")
             for msg in failed:
                 print(f"   ✗ {msg}")
 

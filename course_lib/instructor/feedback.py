@@ -19,7 +19,7 @@ import nbformat
 
 from .verdicts import Row
 
-ICONS = {"correct": "✅", "incorrect": "❌", "pending": "⏳", "error": "💥", "timeout": "⌛",
+ICONS = {"correct": "✓", "incorrect": "✗", "pending": "○", "error": "💥", "timeout": "⌛",
          "missing": "❔", "tampered": "🚫", "wrong-assignment": "🔀", "unreadable": "📄"}
 
 

@@ -76,8 +76,8 @@ theory; the exercises are functions to complete where a cell says `# YOUR CODE H
 ## Exercises and checks
 
 - Replace `raise NotImplementedError()` with your code and run the cell: the check right
-  below prints ✅ (correct, with what was verified), ❌ (what failed, with a hint for the
-  usual mistake) or ⏳ (not attempted yet). A blank notebook runs top to bottom.
+  below prints ✓ (correct, with what was verified), ✗ (what failed, with a hint for the
+  usual mistake) or ○ (not attempted yet). A blank notebook runs top to bottom.
 - **Write the computation yourself.** `course_lib` holds the library's own version of
   most exercises (it is what the checks compare with). An answer that calls it (for
   example `cl.forward_euler` inside `forward_euler_step`), or any function of
