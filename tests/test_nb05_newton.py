@@ -326,10 +326,10 @@ def test_check_velocity_verlet(capsys):
     assert "acceleration at the NEW position" in out and "OLD velocity" not in out
     check.velocity_verlet_step(lambda f, t, y, dt: _vv(f, t, y, dt, old_v=True))
     out = capsys.readouterr().out
-    assert "you passed the OLD velocity v" in out and out.count("✗") == 2   # the oscillator passes
+    assert "you passed the OLD velocity v" in out and out.count("\n   ✗") == 2   # the oscillator passes
     check.velocity_verlet_step(lambda f, t, y, dt: _vv(f, t, y, dt, t_shift=True))
     out = capsys.readouterr().out
-    assert "END of the step: f(t + dt, ...)" in out and out.count("✗") == 1  # only the driven case
+    assert "END of the step: f(t + dt, ...)" in out and out.count("\n   ✗") == 1  # only the driven case
     check.velocity_verlet_step(_main(lambda f, t, y, dt: cl.velocity_verlet(f, t, y, dt)))
     assert "uses the reference" in capsys.readouterr().out
     check.velocity_verlet_step(_stub)

@@ -78,7 +78,7 @@ _FORBIDDEN = {
     "os.kill": "sends signals", "os.killpg": "sends signals", "os.setsid": "leaves its session",
 }
 _FILE_ATTRS = {"__file__", "__path__", "__spec__", "__loader__"}
-_FORGED = ("@@GRADE@@", "✓", "○")
+_FORGED = ("@@GRADE@@", "✓", "○", "\u2705", "\u23f3")
 
 
 class Aliases:
