@@ -92,4 +92,5 @@ present: $(STAMP)
 	$(BIN)/python -m course_lib.instructor.present $(NB) $(PRESENT_ARGS)
 
 test-browser: $(STAMP)
+	@mkdir -p build
 	$(PYTEST) tests/browser -p no:cacheprovider --basetemp=build/browser-tmp || test $$? -eq 5
