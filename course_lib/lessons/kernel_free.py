@@ -53,12 +53,14 @@ def _verdict(run) -> str:
 def spring_player(dt: float = 0.1, c: float = 0.0, method: str = "symplectic_euler",
                   ks=SPRING_KS) -> Player:
     """The spring widget's stiffness slider, precomputed at a fixed ``dt`` (notebook 07)."""
-    from .nb07_spring_view import draw_spring_run
+    from .nb07_spring_view import SpringPlot
     from .nb07_springs import run_spring
 
+    # One figure redrawn in place, as the widget does; black, grey and one method colour
+    # need no more than 16 palette entries, which keeps eleven frames at full resolution.
     return parameter_player(
-        run_spring, draw_spring_run, "k", ks, fixed={"dt": dt, "c": c, "method": method},
-        unit="N/m", caption=_verdict,
+        run_spring, SpringPlot(), "k", ks, fixed={"dt": dt, "c": c, "method": method},
+        unit="N/m", caption=_verdict, colors=16,
         title=f"Without a kernel: a 1 kg mass, {METHOD_LABELS[method]}, dt = {dt:g} s; "
               "slide the stiffness k",
     )
@@ -67,10 +69,10 @@ def spring_player(dt: float = 0.1, c: float = 0.0, method: str = "symplectic_eul
 def hair_player(dt: float = 1e-4, damping: float = 2e-3, k_bends=HAIR_KBENDS) -> Player:
     """The hair widget's bending-stiffness slider, precomputed at a fixed ``dt`` (notebook 08)."""
     from .nb08_hair_chains import run_held_strand
-    from .nb08_hair_view import MAX_STEPS, T_END, draw_held_strand
+    from .nb08_hair_view import MAX_STEPS, T_END, HeldStrandPlot
 
     return parameter_player(
-        run_held_strand, draw_held_strand, "k_bend", k_bends,
+        run_held_strand, HeldStrandPlot(), "k_bend", k_bends,
         fixed={"dt": dt, "damping": damping, "max_steps": MAX_STEPS, "t_end": T_END},
         unit="N/m", label="k_bend", fmt="{:g}",
         caption=_verdict,
