@@ -33,6 +33,17 @@ METHOD_LABELS = {
 }
 
 
+def detached_figure(figsize: tuple[float, float]):
+    """A figure with its own Agg canvas, outside pyplot: a widget that shows its figure
+    itself owns it, and Jupyter's inline backend does not show it a second time."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize)
+    FigureCanvasAgg(fig)
+    return fig
+
+
 def use_course_style() -> None:
     """Set the course's matplotlib defaults: modest size and resolution, light grid."""
     mpl.rcParams.update({

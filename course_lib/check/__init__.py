@@ -82,32 +82,6 @@ class Checker:
         return self.expect(ok, what, f"expected {_fmt(e)}, got {_fmt(a)}", hint)
 
 
-    def one_step_cases(
-        self,
-        student: Callable,
-        cases,
-        reference: Callable,
-        mistakes_for: Callable,
-        hint: str,
-    ) -> None:
-        """Check a student's one-step method ``student(f, t, y, dt)`` on several cases.
-
-        ``cases`` holds ``(what, f, t, y, dt)``; ``reference`` is the course_lib step and
-        ``mistakes_for(f, t, y, dt)`` returns ``{hint: wrong_value}`` for the usual slips.
-        A function that overwrites its input ``y`` fails that case with its own hint.
-        """
-        for what, f, t, y, dt in cases:
-            y = np.asarray(y, dtype=float)
-            y_in = y.copy()
-            got = student(f, t, y_in, dt)
-            if not np.array_equal(y_in, y):
-                self.expect(False, what, "your function changed its input y",
-                            "build a new array instead of updating y in place (y += ...)")
-                continue
-            self.close(got, reference(f, t, y, dt), what, rtol=1e-12, atol=1e-14, hint=hint,
-                       mistakes=mistakes_for(f, t, y, dt))
-
-
 def _fmt(x: np.ndarray) -> str:
     return np.array2string(np.asarray(x), precision=6, suppress_small=True, separator=", ")
 

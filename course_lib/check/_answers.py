@@ -122,25 +122,39 @@ def close(ck: Checker, got, expected, what: str, *, hint: str | None = None,
                      hint)
 
 
+def pure_call(ck: Checker, what: str, student: Callable, f: Callable, t: float,
+              y: np.ndarray, dt: float) -> tuple[bool, object]:
+    """Call a one-step method ``student(f, t, y, dt)`` on a copy of ``y``, like :func:`call`;
+    a function that overwrites its input fails the case with its own hint."""
+    y_in = y.copy()
+    ok, got = call(ck, what, student, f, t, y_in, dt)
+    if ok and not np.array_equal(y_in, y):
+        ck.expect(False, what, "your function changed its input y",
+                  "build a new array instead of updating y in place (y += ...)")
+        return False, None
+    return ok, got
+
+
 def step_cases(ck: Checker, student: Callable, cases, reference: Callable,
-               mistakes_for: Callable, hint: str, rtol: float = 1e-12) -> None:
+               mistakes_for: Callable, hint: str, rtol: float = 1e-12,
+               atol: float | None = None) -> None:
     """Check a student's one-step method ``student(f, t, y, dt)`` on several cases.
 
     ``cases`` holds ``(what, f, t, y, dt)``; ``reference`` is the course_lib step and
     ``mistakes_for(f, t, y, dt)`` returns ``{hint: wrong_value}`` for the usual slips. The
     reference and the mistakes are computed first, from the pristine ``y``; the student gets
-    a copy, and a function that overwrites it fails that case with its own hint. A float32
-    answer is judged at float32 precision.
+    a copy (:func:`pure_call`). An answer holding NaN or inf is said to be one, not printed;
+    a float32 answer is judged at float32 precision.
     """
     for what, f, t, y, dt in cases:
         y = np.asarray(y, dtype=float)
         expected, mistakes = reference(f, t, y.copy(), dt), mistakes_for(f, t, y.copy(), dt)
-        y_in = y.copy()
-        ok, got = call(ck, what, student, f, t, y_in, dt)
+        ok, got = pure_call(ck, what, student, f, t, y, dt)
         if not ok:
             continue
-        if not np.array_equal(y_in, y):
-            ck.expect(False, what, "your function changed its input y",
-                      "build a new array instead of updating y in place (y += ...)")
+        answer = as_array(got)
+        if answer is not None and answer.size and not np.all(np.isfinite(answer)):
+            ck.expect(False, what, "your step returned NaN or inf",
+                      "look for a division by zero or an overflow in the update")
             continue
-        close(ck, got, expected, what, rtol=rtol, hint=hint, mistakes=mistakes)
+        close(ck, got, expected, what, rtol=rtol, atol=atol, hint=hint, mistakes=mistakes)

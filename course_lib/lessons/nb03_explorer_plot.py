@@ -20,7 +20,7 @@ import numpy as np
 from matplotlib.ticker import LogLocator, MaxNLocator, MultipleLocator, NullLocator
 
 from ..integrators import NEWTONIAN_METHODS
-from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS
+from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS, detached_figure
 from .nb03_regions import REGION_WINDOW, draw_region
 from .nb03_stability import ExperimentResult, _fmt_factor
 
@@ -59,11 +59,7 @@ class ExperimentPlot:
 
     def __init__(self, fig=None, *, blit: bool = False):
         if fig is None:
-            from matplotlib.backends.backend_agg import FigureCanvasAgg
-            from matplotlib.figure import Figure
-
-            fig = Figure(figsize=FIGSIZE)
-            FigureCanvasAgg(fig)
+            fig = detached_figure(FIGSIZE)
         self.fig = fig
         self.ax_t, self.ax_n, self.ax_z = fig.subplots(
             1, 3, gridspec_kw={"width_ratios": [1.25, 1.0, 0.95]})

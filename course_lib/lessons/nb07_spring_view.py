@@ -17,7 +17,7 @@ import numpy as np
 from matplotlib.ticker import LogLocator, MaxNLocator, NullLocator
 
 from ..integrators import METHODS
-from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS
+from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS, detached_figure
 from .nb07_springs import SpringRun, run_spring
 
 #: Size of the figure (in) and the most points drawn per curve.
@@ -37,11 +37,7 @@ class SpringPlot:
 
     def __init__(self, fig=None):
         if fig is None:
-            from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-            fig = plt.figure(figsize=FIGSIZE)
-            plt.close(fig)
-            FigureCanvasAgg(fig)
+            fig = detached_figure(FIGSIZE)
         self.fig = fig
         self.ax_x, self.ax_e, self.ax_E = fig.subplots(1, 3)
         fig.subplots_adjust(left=0.085, right=0.985, top=0.74, bottom=0.15, wspace=0.34)

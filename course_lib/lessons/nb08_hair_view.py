@@ -19,7 +19,7 @@ from matplotlib.collections import LineCollection
 from matplotlib.ticker import MaxNLocator
 
 from ..hair import FPS
-from ..plotting import EXACT_STYLE
+from ..plotting import EXACT_STYLE, detached_figure
 from ..springs import SpringNetwork
 from .nb08_hair_chains import HeldStrandRun, run_held_strand
 
@@ -34,11 +34,7 @@ class HeldStrandPlot:
 
     def __init__(self, fig=None):
         if fig is None:
-            from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-            fig = plt.figure(figsize=FIGSIZE)
-            plt.close(fig)
-            FigureCanvasAgg(fig)
+            fig = detached_figure(FIGSIZE)
         self.fig = fig
         self.ax_s, self.ax_t = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.0, 1.25]})
         fig.subplots_adjust(left=0.07, right=0.98, top=0.80, bottom=0.15, wspace=0.22)

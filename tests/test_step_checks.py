@@ -1,0 +1,85 @@
+"""Every check of a one-step method ``step(f, t, y, dt)`` treats the same slips the same way.
+
+Notebooks 02, 04 and 05 ask for one-step methods; their checks share
+:func:`course_lib.check._answers.step_cases` / ``pure_call``. For each such check this test
+feeds the right answer (float64 and float32) and the kinds of wrong answer every one of
+them must name: a step that overwrites its input, one that returns NaN, one that raises,
+one that returns the wrong shape and one that returns the start unchanged.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+
+import numpy as np
+import pytest
+
+import course_lib as cl
+from course_lib.check import RESULTS
+from course_lib.check import nb02, nb04, nb05
+
+STEP_CHECKS = [
+    (nb02.forward_euler_step, cl.forward_euler),
+    (nb04.midpoint_step, cl.midpoint),
+    (nb04.implicit_midpoint_step, nb04.implicit_midpoint_reference),
+    (nb05.symplectic_euler_step, cl.symplectic_euler),
+    (nb05.velocity_verlet_step, cl.velocity_verlet),
+]
+IDS = [check.__name__ for check, _ in STEP_CHECKS]
+
+
+def _run(check, answer):
+    RESULTS.clear()
+    with contextlib.redirect_stdout(io.StringIO()) as out:
+        check(answer)
+    (result,) = RESULTS.values()
+    return result["status"], out.getvalue()
+
+
+def _copy_of(reference):
+    # A fresh function each time: the checks refuse an answer that *is* the reference.
+    return lambda f, t, y, dt: np.array(reference(f, t, np.array(y), dt))
+
+
+@pytest.mark.parametrize(("check", "reference"), STEP_CHECKS, ids=IDS)
+def test_right_answer_passes_in_float64_and_float32(check, reference):
+    assert _run(check, _copy_of(reference))[0] == "correct"
+    as32 = _copy_of(reference)
+    assert _run(check, lambda f, t, y, dt: as32(f, t, y, dt).astype(np.float32))[0] == "correct"
+
+
+@pytest.mark.parametrize(("check", "reference"), STEP_CHECKS, ids=IDS)
+def test_a_step_that_overwrites_y_is_told_so(check, reference):
+    right = _copy_of(reference)
+
+    def in_place(f, t, y, dt):
+        y[...] = right(f, t, y, dt)
+        return y
+
+    status, out = _run(check, in_place)
+    assert status == "incorrect" and "changed its input y" in out
+
+
+@pytest.mark.parametrize(("check", "reference"), STEP_CHECKS, ids=IDS)
+def test_nan_is_named_not_printed(check, reference):
+    status, out = _run(check, lambda f, t, y, dt: np.full(np.shape(y), np.nan))
+    assert status == "incorrect" and "NaN or inf" in out
+    assert "nan" not in out.replace("NaN", "")
+
+
+@pytest.mark.parametrize(("check", "reference"), STEP_CHECKS, ids=IDS)
+def test_an_exception_is_the_students_failure(check, reference):
+    def broken(f, t, y, dt):
+        raise ZeroDivisionError("oops in my step")
+
+    status, out = _run(check, broken)
+    assert status == "incorrect" and "ZeroDivisionError: oops in my step" in out
+
+
+@pytest.mark.parametrize(("check", "reference"), STEP_CHECKS, ids=IDS)
+def test_wrong_shape_and_no_step_fail(check, reference):
+    status, out = _run(check, lambda f, t, y, dt: np.ravel(reference(f, t, np.array(y), dt))[:1])
+    assert status == "incorrect" and "shape" in out
+    status, _ = _run(check, lambda f, t, y, dt: np.array(y, dtype=float))
+    assert status == "incorrect"
