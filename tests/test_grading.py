@@ -6,6 +6,7 @@ correct and the stubs pending, so no check in the kit depends on anything a repl
 cannot carry.
 """
 
+import ast
 import contextlib
 import copy
 import csv
@@ -365,3 +366,39 @@ def test_an_interrupted_run_leaves_a_valid_gradebook(tmp_path, monkeypatch):
         rows = list(csv.DictReader(fh))
     assert list(rows[0]) == FIELDS and len(rows) == 2 * len(KIT["02_forward_euler"].exercises)
     assert {r["student"] for r in rows} == set(calls[:2])
+
+
+def _holds_ast_lock(node, parents) -> bool:
+    return any(isinstance(p, ast.With) and any("AST_LOCK" in ast.unparse(item.context_expr)
+                                               for item in p.items) for p in parents[node])
+
+
+def test_every_ast_conversion_in_the_grader_takes_the_lock():
+    """The grader scans from several threads, and CPython 3.11's AST converter keeps its
+    recursion depth per interpreter (python/cpython#106905: "AST constructor recursion depth
+    mismatch" once broke a grading run here). Every ``ast.parse`` and every ``compile`` of an
+    AST in a module the grader's threads use must sit inside ``with AST_LOCK``."""
+    threaded = ["scan", "kit", "grade", "verdicts", "submissions", "feedback", "report",
+                "recorder", "policy", "codec", "sandbox"]
+    unguarded = []
+    for name in threaded:
+        path = ROOT / "course_lib" / "instructor" / f"{name}.py"
+        tree = ast.parse(path.read_text())
+        parents: dict = {}
+        stack = [(tree, [])]
+        while stack:
+            node, chain = stack.pop()
+            parents[node] = chain
+            stack += [(child, [*chain, node]) for child in ast.iter_child_nodes(node)]
+        for node in parents:
+            if not isinstance(node, ast.Call):
+                continue
+            func = ast.unparse(node.func)
+            if func == "ast.parse" or (func == "compile" and node.args
+                                       and not isinstance(node.args[0], ast.Constant)
+                                       and "ast." in ast.unparse(node.args[0])):
+                if not _holds_ast_lock(node, parents):
+                    unguarded.append(f"{name}.py:{node.lineno}: {ast.unparse(node)[:60]}")
+    assert not unguarded, "\n".join(unguarded)
+    from course_lib.instructor import kit, scan
+    assert kit.AST_LOCK is scan.AST_LOCK

@@ -22,6 +22,7 @@ from pathlib import Path
 import nbformat
 
 from .notebooks import BEGIN
+from .scan import AST_LOCK
 
 CHECK_IMPORT = re.compile(r"^\s*from\s+course_lib\.check\s+import\s+(nb\d+)\s+as\s+(\w+)", re.M)
 
@@ -59,7 +60,8 @@ class Assignment:
 def exercise_calls(source: str, alias: str) -> list[tuple[str, str]]:
     """``(check name, function name)`` of every ``alias.<check>(<function>)`` call in ``source``."""
     try:
-        tree = ast.parse(source)
+        with AST_LOCK:             # see scan.AST_LOCK: the grader parses from several threads
+            tree = ast.parse(source)
     except SyntaxError:
         return []
     defs = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}

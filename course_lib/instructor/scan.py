@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import ast
 import re
+import threading
 import types
 from dataclasses import dataclass
 
@@ -45,9 +46,17 @@ def strip_magics(source: str) -> str:
     return "\n".join(out)
 
 
+#: CPython 3.11 keeps the AST converter's recursion depth in per-interpreter state, so two
+#: threads converting at once can fail with "SystemError: AST constructor recursion depth
+#: mismatch" (python/cpython#106905). The grader scans submissions from several threads:
+#: every conversion between source, AST objects and code takes this lock.
+AST_LOCK = threading.Lock()
+
+
 def parse(source: str) -> ast.Module | None:
     try:
-        return ast.parse(strip_magics(source))
+        with AST_LOCK:
+            return ast.parse(strip_magics(source))
     except (SyntaxError, ValueError, RecursionError, MemoryError):
         return None
 
@@ -195,7 +204,9 @@ class Binding:
 def _function_code(node: ast.FunctionDef) -> types.CodeType | None:
     node = ast.FunctionDef(**{**node.__dict__, "decorator_list": []})
     try:
-        module = compile(ast.fix_missing_locations(ast.Module([node], [])), "<answer>", "exec")
+        with AST_LOCK:
+            module = compile(ast.fix_missing_locations(ast.Module([node], [])), "<answer>",
+                             "exec")
     except (SyntaxError, ValueError, TypeError, RecursionError):
         return None
     return next((c for c in module.co_consts if isinstance(c, types.CodeType)), None)
