@@ -128,6 +128,39 @@ def test_flock_explorer_view():
     assert elapsed < 1.0                       # 100 ms target in benchmarks/bench_boids.py
 
 
+def test_flock_plot_keeps_its_limits_ticks_and_label_places():
+    # the widget's figure fixes its ticks and axis-label places once; the limits must
+    # stay those asked for, and the labels where matplotlib's automatic placement puts them
+    import matplotlib.pyplot as plt
+
+    from course_lib.lessons.nb10_drawings import FlockPlot
+
+    run = nb10.run_flock(steps=10)
+    fig = FlockPlot(150, nb10.BOX, 2.0)(run)
+    ax, ax1, ax2 = fig.axes
+    assert ax.get_xlim() == ax.get_ylim() == (0.0, nb10.BOX)
+    assert ax1.get_ylim() == (0.0, 1.02) and ax2.get_ylim() == (0.0, 1.5)
+    assert ax1.get_xlim() == ax2.get_xlim() == (0.0, 2.0)
+    assert ax.get_xticks().tolist() == [0.0, 10.0, 20.0]
+    assert ax2.get_yticks().tolist() == [0.0, 0.5, 1.0, 1.5]
+    fig.canvas.draw()
+    frozen = [a.get_window_extent() for a in (ax.xaxis.label, ax.yaxis.label,
+                                               ax2.xaxis.label, ax2.yaxis.label)]
+    auto, (a0, a1, a2) = plt.figure(figsize=fig.get_size_inches()), (ax, ax1, ax2)
+    for a in (a0, a1, a2):                                    # the same axes, left automatic
+        b = auto.add_axes(a.get_position())
+        b.set(xlim=a.get_xlim(), ylim=a.get_ylim(), xticks=a.get_xticks(),
+              yticks=a.get_yticks(), xlabel=a.get_xlabel(), ylabel=a.get_ylabel())
+        b.set_xlim(a.get_xlim()), b.set_ylim(a.get_ylim())
+        b.tick_params(labelbottom=a.xaxis.get_tick_params()["labelbottom"])
+    auto.canvas.draw()
+    b0, _, b2 = auto.axes
+    for f, g in zip(frozen, [b0.xaxis.label, b0.yaxis.label, b2.xaxis.label, b2.yaxis.label],
+                    strict=True):
+        assert np.allclose(f.get_points(), g.get_window_extent().get_points(), atol=1e-6)
+    plt.close(auto)
+
+
 # --- the exercise checks -------------------------------------------------------------------
 
 

@@ -69,6 +69,22 @@ class FlockPlot:
             a.yaxis.set_major_locator(MaxNLocator(3))
         self.title = fig.suptitle("", fontsize=10)
         self.fig = fig
+        self._freeze_layout()
+
+    def _freeze_layout(self):
+        """Fix what no update changes (the limits are fixed, so the ticks and the places
+        of the axis labels are too): left automatic, every redraw would format the tick
+        labels again and measure their boxes to place the axis labels."""
+        self.fig.draw_without_rendering()
+        for ax in self.fig.axes:
+            to_axes = ax.transAxes.inverted()
+            for axis in (ax.xaxis, ax.yaxis):
+                lo, hi = axis.get_view_interval()
+                axis.set_ticks(axis.get_majorticklocs())    # (this widens the limits
+                axis.set_view_interval(lo, hi, ignore=True)  # to every tick: undone)
+                label = axis.label
+                axis.set_label_coords(*to_axes.transform(
+                    label.get_transform().transform(label.get_position())))
 
     def __call__(self, run):
         r = run.rules
