@@ -81,6 +81,26 @@ def test_explorer_is_added_beside_the_widget_once_and_stateless_views_are_droppe
 
 
 @pytest.mark.skipif(shutil.which("npm") is None, reason="npm is needed to vendor the site's assets")
+@pytest.mark.parametrize("stem", ["03_stability", "07_springs", "08_hair_chains", "10_flocking"])
+def test_a_notebook_that_embeds_its_player_gets_no_second_copy(stem):
+    from course_lib.lessons import kernel_free
+
+    nb = _solution(stem)
+    calls = [i for i, c in enumerate(nb.cells) if c.cell_type == "code"
+             and f"kernel_free.{kernel_free.PLAYERS[stem].__name__}(" in c.source]
+    assert len(calls) == 1, f"{stem} embeds its player in one cell"
+    assert site.has_player(nb) and site.add_player(nb, stem) is False
+    # not executed (no outputs, e.g. a student notebook): the same cell gets the player
+    for cell in nb.cells:
+        if cell.cell_type == "code":
+            cell.outputs = []
+    n_cells = len(nb.cells)
+    if stem == "03_stability":      # the fastest player: build one for real
+        assert site.add_player(nb, stem) is True
+        assert len(nb.cells) == n_cells and site.has_player(nb)
+        assert 'data-kind="parameter"' in nb.cells[calls[0]].outputs[0]["data"]["text/html"]
+
+
 def test_small_site_builds_offline_from_the_vendored_assets(tmp_path):
     out = tmp_path / "site"
     pages = site.build(out, ROOT / "solutions", only=["02_forward_euler"], run=False,

@@ -69,16 +69,20 @@ def has_player(nb: nbformat.NotebookNode) -> bool:
 
 
 def add_player(nb: nbformat.NotebookNode, stem: str) -> bool:
-    """Insert the notebook's kernel-free explorer after its first widget cell, if it has a
-    player in :data:`course_lib.lessons.kernel_free.PLAYERS` and none in its outputs."""
+    """Give the notebook its kernel-free explorer, if it has a player in
+    :data:`course_lib.lessons.kernel_free.PLAYERS` and none in its outputs: a cell that
+    calls the player but holds no output (a notebook not executed) gets the player as
+    its output; without such a cell, one is inserted after the first widget cell."""
     from course_lib.lessons import kernel_free
 
     make = kernel_free.PLAYERS.get(stem)
     if make is None or has_player(nb):
         return False
+    call = f"kernel_free.{make.__name__}("
+    cell = next((c for c in nb.cells if c.cell_type == "code" and call in c.source), None)
     where = next((i for i, c in enumerate(nb.cells) if c.cell_type == "code" and any(
         WIDGET_VIEW in out.get("data", {}) for out in c.outputs)), None)
-    if where is None:
+    if cell is None and where is None:
         return False
     import matplotlib
 
@@ -87,13 +91,14 @@ def add_player(nb: nbformat.NotebookNode, stem: str) -> bool:
 
     use_course_style()
     player = make()
-    cell = nbformat.v4.new_code_cell(
-        f"# NBVAL_IGNORE_OUTPUT\nfrom course_lib.lessons import kernel_free\n"
-        f"kernel_free.{make.__name__}()")
+    if cell is None:
+        cell = nbformat.v4.new_code_cell(
+            f"# NBVAL_IGNORE_OUTPUT\nfrom course_lib.lessons import kernel_free\n"
+            f"kernel_free.{make.__name__}()")
+        nb.cells.insert(where + 1, cell)
     cell.outputs = [nbformat.v4.new_output(
         "execute_result", {"text/html": player.html, "text/plain": repr(player)},
         execution_count=None)]
-    nb.cells.insert(where + 1, cell)
     return True
 
 
