@@ -4,10 +4,14 @@ flocking widget, compute and redraw (target 100 ms).
 The step uses the k-d tree neighbour search at the notebook's density (0.375 boids per
 m²), timed after 50 steps, once groups (with more neighbours per boid) have formed. The
 widget is driven as a student drives it, by setting a slider's value, and is drawn with
-Agg as outside a kernel.
+Agg as outside a kernel; like every widget row it is timed on the CPU time of this thread
+(the update is serial; the wall clock of a shared machine counts other processes), with
+the wall time in the note.
 """
 
 from __future__ import annotations
+
+import time
 
 import matplotlib
 
@@ -16,12 +20,13 @@ matplotlib.use("Agg")
 import numpy as np
 
 from benchmarks.__main__ import Result, median_time
+from benchmarks.timing import Row
 from course_lib import boids
 from course_lib.lessons import nb10_flocking as nb10
 from course_lib.plotting import use_course_style
 
 
-def run() -> list[Result]:
+def run() -> list[Result | Row]:
     rng = np.random.default_rng(2026)
     box = float(np.sqrt(2000 / 0.375))
     rules = boids.Rules(box=box)
@@ -35,9 +40,14 @@ def run() -> list[Result]:
     view = nb10.flock_explorer()
     values = iter([1.5, 2.5] * 1000)
 
-    def change_alignment() -> None:        # alternate so that every assignment is a change
+    def change_alignment() -> tuple[float, float]:
+        """Alternate the value so that every assignment is a change; CPU and wall seconds."""
+        start, wall = time.thread_time(), time.perf_counter()
         view.controls["alignment"].value = next(values)
+        return time.thread_time() - start, time.perf_counter() - wall
 
-    results.append(Result("flocking widget: one update (150 boids, 75 steps, redraw)",
-                          median_time(change_alignment, repeat=7), 0.100))
+    change_alignment()                     # warm-up
+    cpu, wall = sorted(change_alignment() for _ in range(7))[3]      # median by CPU time
+    results.append(Row("flocking widget: one update (150 boids, 75 steps, redraw)", cpu,
+                       "≤ 100 ms", cpu <= 0.100, note=f"wall {wall * 1e3:.0f} ms"))
     return results
