@@ -12,18 +12,22 @@ kernel per notebook,
 
 and fails with the list of cells that raised in steps 2-3 (a failure in step 1 is reported
 as such). Cells tagged ``raises-exception`` (or marked ``# NBVAL_RAISES_EXCEPTION``) are
-allowed to raise. Nothing is skipped.
+allowed to raise. Nothing is skipped. Notebooks run two at a time, one kernel each (the
+machine has two cores).
 """
 
 from __future__ import annotations
 
+import os
 import random
+from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 from notebook_helpers import SOLUTIONS, read
 
 SEED = 2026
 EXPECTED_TO_RAISE = "NBVAL_RAISES_EXCEPTION"
+WORKERS = min(2, os.cpu_count() or 1)
 
 
 def _first_line(source: str) -> str:
@@ -38,8 +42,8 @@ def _error_of(cell) -> str | None:
     return None
 
 
-@pytest.mark.parametrize("path", SOLUTIONS, ids=lambda p: p.name)
-def test_cells_survive_rerun_in_any_order(path):
+def _rerun(path) -> list[str]:
+    """Run All, then the two other orders, in one kernel; the cells that raised."""
     from nbclient import NotebookClient
 
     nb = read(path)
@@ -69,4 +73,20 @@ def test_cells_survive_rerun_in_any_order(path):
                                     f"raised {error}")
             if name == "Run All" and failures:
                 break  # the notebook does not even run top to bottom
+    return failures
+
+
+@pytest.fixture(scope="module")
+def rerun_failures():
+    """Every notebook's failures; two notebooks at a time, each kernel on its own core."""
+    with ThreadPoolExecutor(max_workers=WORKERS) as pool:
+        futures = {path: pool.submit(_rerun, path) for path in SOLUTIONS}
+        return {path: future.exception() or future.result() for path, future in futures.items()}
+
+
+@pytest.mark.parametrize("path", SOLUTIONS, ids=lambda p: p.name)
+def test_cells_survive_rerun_in_any_order(path, rerun_failures):
+    failures = rerun_failures[path]
+    if isinstance(failures, BaseException):
+        raise failures
     assert not failures, f"{path.name}:\n  " + "\n  ".join(failures)

@@ -16,8 +16,7 @@ import numpy as np
 import pytest
 
 import course_lib as cl
-from course_lib.check import RESULTS
-from course_lib.check import nb02, nb04, nb05
+from course_lib.check import RESULTS, nb02, nb04, nb05
 
 STEP_CHECKS = [
     (nb02.forward_euler_step, cl.forward_euler),
