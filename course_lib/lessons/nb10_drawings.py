@@ -34,9 +34,10 @@ class FlockPlot:
     """The widget's figure: the final flock (arrows: velocity, colour: heading) beside its
     polarization and nearest-neighbour distance over time. Calling it with a
     :class:`~course_lib.lessons.nb10_flocking.FlockRun` updates the same artists in
-    place, which keeps a widget update fast; it returns the figure."""
+    place, which keeps a widget update fast; it returns the figure. With ``freeze`` (for
+    a figure redrawn many times) the ticks and axis-label places are fixed once."""
 
-    def __init__(self, n: int, box: float, t_end: float):
+    def __init__(self, n: int, box: float, t_end: float, freeze: bool = True):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.ticker import MaxNLocator
 
@@ -69,7 +70,8 @@ class FlockPlot:
             a.yaxis.set_major_locator(MaxNLocator(3))
         self.title = fig.suptitle("", fontsize=10)
         self.fig = fig
-        self._freeze_layout()
+        if freeze:
+            self._freeze_layout()
 
     def _freeze_layout(self):
         """Fix what no update changes (the limits are fixed, so the ticks and the places
@@ -103,7 +105,7 @@ class FlockPlot:
 
 def draw_flock(run):
     """A new figure of ``run`` (see :class:`FlockPlot`)."""
-    return FlockPlot(len(run.x), run.rules.box, float(run.t[-1]))(run)
+    return FlockPlot(len(run.x), run.rules.box, float(run.t[-1]), freeze=False)(run)
 
 
 def draw_key_states(runs: dict):
