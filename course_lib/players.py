@@ -186,7 +186,18 @@ def animation_player(anim, *, mode: str = "loop", dpi: float | None = None, colo
     """
     fig = anim._fig
     grabber = _grabber(colors)
-    anim.save("unused", writer=grabber, dpi=dpi or fig.dpi)
+    # ``save`` asks the canvas to redraw after each frame (``draw_idle``), then the grabber
+    # renders the frame again: one render is enough, so the redraw is skipped while saving.
+    canvas = fig.canvas
+    own = vars(canvas).get("draw_idle")
+    canvas.draw_idle = lambda *args, **kwargs: None
+    try:
+        anim.save("unused", writer=grabber, dpi=dpi or fig.dpi)
+    finally:
+        if own is None:
+            del canvas.draw_idle
+        else:
+            canvas.draw_idle = own
     if close:
         plt.close(fig)
     n = len(grabber.frames)

@@ -56,6 +56,16 @@ def test_animation_player_has_every_frame_closes_the_figure_and_needs_no_network
     assert repr(player) == "<animation player: 5 frames, frame 1 / 5 … frame 5 / 5>"
 
 
+def test_animation_player_renders_each_frame_once_and_restores_the_canvas(square_anim):
+    fig = square_anim._fig
+    draws = []
+    fig.canvas.mpl_connect("draw_event", lambda event: draws.append(event))
+    player = players.animation_player(square_anim, close=False)
+    assert len(player.labels) == 5 and len(draws) == 5   # not twice per frame
+    assert "draw_idle" not in vars(fig.canvas)           # the canvas redraws as before
+    plt.close(fig)
+
+
 def test_player_html_is_deterministic_and_escapes_script_end():
     fig = plt.figure(figsize=(1, 1), dpi=30)
     png = _png(fig)
