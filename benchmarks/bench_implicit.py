@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 import course_lib as cl
+from benchmarks import preconditioners
 from benchmarks.bench_core import course_lib_step
 from benchmarks.timing import Row, interleaved
 from course_lib import springs
@@ -22,6 +23,7 @@ MASS = 1e-3
 FACTOR = 10.0          # implicit step / explicit stability limit
 RTOL = 1e-3
 LIMIT_64 = None        # filled on first use: 2 / ω_max of the 64×64 cloth
+LAST: dict = {}        # the largest cloth's solver and state after its timed steps
 
 
 def cloth(side: int):
@@ -49,6 +51,7 @@ def implicit_vs_explicit(side: int, dt: float, rounds: int):
     explicit = course_lib_step(net, xe, ve, np.full(len(x0), MASS), dt / (10 * FACTOR), pinned)
     t = interleaved({"implicit": implicit, "explicit": explicit}, rounds=rounds,
                     inner={"implicit": 1, "explicit": 10})
+    LAST.update(solver=solver, x=state[0], v=state[1], dt=dt)
     return t, float(np.median(iterations))
 
 
@@ -68,6 +71,10 @@ def run(quick: bool = False) -> list[Row]:
     rows.append(Row("same, cost per simulated second against symplectic Euler at its limit "
                     "(informational)", None, "–", None, None, None,
                     f"{ratio / FACTOR:.1f}× (implicit step / {FACTOR:g} explicit steps)"))
+    rows.append(Row("same, with the preconditioners SciPy offers (informational; "
+                    "benchmarks/preconditioners.py)", None, "–", None, None, None,
+                    preconditioners.study(LAST["solver"], LAST["x"], LAST["v"], LAST["dt"],
+                                          t.median["explicit"], RTOL)))
     n = np.array(sides, dtype=float) ** 2
     p = np.polyfit(np.log(n), np.log(times), 1)[0]
     rows.append(Row(f"Baraff–Witkin step cost ∝ N^p over {sides[0]}²…{sides[-1]}² "
