@@ -44,7 +44,7 @@ class Result:
 
 
 def median_time(func, repeat: int = 15, number: int = 1) -> float:
-    """Median wall time (s) of ``func()`` (see :func:`benchmarks.timing.median_time`)."""
+    """Median CPU time (s) of ``func()`` (see :func:`benchmarks.timing.median_time`)."""
     from benchmarks.timing import median_time as timed
 
     return timed(func, repeat, number)
