@@ -8,7 +8,8 @@ we report the median time of each and the median of the per-round ratios.
 Computations run serially in this process are timed with the CPU time of this thread
 (:data:`CPU`): on a shared machine the wall clock also counts the time other processes
 hold the core, which is noise for a comparison of serial code. Widgets and notebooks are
-timed on the wall clock (:data:`WALL`), which is what a student waits.
+timed on CPU time too (a widget update on this thread, a notebook on its kernel's
+process), with the wall clock (:data:`WALL`), what a student waits, in the row's note.
 """
 
 from __future__ import annotations
