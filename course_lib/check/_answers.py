@@ -11,7 +11,10 @@ the student only for what the student's code did:
 - :func:`rtol_for` widens a tolerance to the precision the answer carries, so a right
   answer computed in float32 is accepted (it has about 7 significant digits);
 - :func:`close` compares at that precision, names the usual mistake an answer matches
-  (:func:`mistake_hint`), and summarises a large wrong array by its worst row.
+  (:func:`mistake_hint`), and summarises a large wrong array by its worst row;
+- :func:`pure_call` and :func:`step_cases` check one-step methods ``step(f, t, y, dt)``
+  (notebooks 02, 04, 05); :func:`kutta3` is a method the course never teaches, a black box
+  for the checks of 02 and 03.
 
 Imports NumPy and :class:`course_lib.check.Checker` only.
 """
@@ -158,3 +161,12 @@ def step_cases(ck: Checker, student: Callable, cases, reference: Callable,
                       "look for a division by zero or an overflow in the update")
             continue
         close(ck, got, expected, what, rtol=rtol, atol=atol, hint=hint, mistakes=mistakes)
+
+
+def kutta3(f, t, y, dt):
+    """Kutta's third-order method (R = 1 + z + z²/2 + z³/6): a black box the checks of
+    notebooks 02 and 03 measure students' tools on, since the course never teaches it."""
+    k1 = f(t, y)
+    k2 = f(t + 0.5 * dt, y + 0.5 * dt * k1)
+    k3 = f(t + dt, y - dt * k1 + 2.0 * dt * k2)
+    return y + dt / 6.0 * (k1 + 4.0 * k2 + k3)

@@ -25,7 +25,7 @@ from scipy.optimize import brentq
 from .. import fields
 from ..integrators import forward_euler, integrate
 from . import Checker, exercise
-from ._answers import as_scalar, call, close, step_cases
+from ._answers import as_scalar, call, close, kutta3, step_cases
 
 _SLOPE_AT_END = (
     "the slope must be taken at the START of the step, f(t, y); you used the end of "
@@ -175,14 +175,6 @@ def _ralston(f, t, y, dt):
     return y + dt * (0.25 * k1 + 0.75 * k2)
 
 
-def _kutta3(f, t, y, dt):
-    """Kutta's third-order method."""
-    k1 = f(t, y)
-    k2 = f(t + 0.5 * dt, y + 0.5 * dt * k1)
-    k3 = f(t + dt, y - dt * k1 + 2.0 * dt * k2)
-    return y + dt / 6.0 * (k1 + 4.0 * k2 + k3)
-
-
 def _euler(f, t, y, dt):
     return y + dt * f(t, y)
 
@@ -202,7 +194,7 @@ def _gyre(t, X):
 ORDER_CASES = [
     ("forward Euler on a pendulum swinging to 115°", _euler, 1, _pendulum, (2.0, 0.0), 3.0, 200),
     ("Ralston's method on the pendulum", _ralston, 2, _pendulum, (2.0, 0.0), 3.0, 40),
-    ("Kutta's third-order method on the pendulum", _kutta3, 3, _pendulum, (2.0, 0.0), 3.0, 40),
+    ("Kutta's third-order method on the pendulum", kutta3, 3, _pendulum, (2.0, 0.0), 3.0, 40),
     ("Ralston's method on the double gyre (time-dependent)", _ralston, 2, _gyre, (0.6, 0.3),
      10.0, 200),
 ]

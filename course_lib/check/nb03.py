@@ -17,7 +17,7 @@ import numpy as np
 
 from ..stability import max_stable_dt
 from . import Checker, exercise
-from ._answers import as_array, as_scalar, call, rtol_for
+from ._answers import as_array, as_scalar, call, kutta3, rtol_for
 
 # --- exercise 1: R(z) of a method, from one step ---------------------------------------
 
@@ -26,14 +26,6 @@ def _two_half_steps(f, t, y, dt):
     """Two forward Euler steps of dt/2: R = (1 + z/2)²."""
     y_half = y + 0.5 * dt * f(t, y)
     return y_half + 0.5 * dt * f(t + 0.5 * dt, y_half)
-
-
-def _kutta3(f, t, y, dt):
-    """Kutta's third-order method: R = 1 + z + z²/2 + z³/6."""
-    k1 = f(t, y)
-    k2 = f(t + 0.5 * dt, y + 0.5 * dt * k1)
-    k3 = f(t + dt, y - dt * k1 + 2.0 * dt * k2)
-    return y + dt / 6.0 * (k1 + 4.0 * k2 + k3)
 
 
 def _theta_quarter(f, t, y, dt):
@@ -55,7 +47,7 @@ def _theta_quarter(f, t, y, dt):
 #: (name, stepper, exact R) of the methods the check measures.
 HIDDEN_METHODS = [
     ("two forward Euler half steps", _two_half_steps, lambda z: (1 + z / 2) ** 2),
-    ("Kutta's third-order method", _kutta3, lambda z: 1 + z + z**2 / 2 + z**3 / 6),
+    ("Kutta's third-order method", kutta3, lambda z: 1 + z + z**2 / 2 + z**3 / 6),
     ("the implicit θ-method, θ = 1/4", _theta_quarter, lambda z: (1 + 0.75 * z) / (1 - 0.25 * z)),
 ]
 #: The points z (any shape) where R is measured.
