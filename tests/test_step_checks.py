@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import course_lib as cl
-from course_lib.check import RESULTS, nb02, nb04, nb05
+from course_lib.check import RESULTS, nb02, nb03, nb04, nb05
 
 STEP_CHECKS = [
     (nb02.forward_euler_step, cl.forward_euler),
@@ -82,3 +82,15 @@ def test_wrong_shape_and_no_step_fail(check, reference):
     assert status == "incorrect" and "shape" in out
     status, _ = _run(check, lambda f, t, y, dt: np.array(y, dtype=float))
     assert status == "incorrect"
+
+
+ONE_NUMBER_CHECKS = [nb02.drift_dt, nb02.observed_order, nb03.largest_stable_dt]
+
+
+@pytest.mark.parametrize("check", ONE_NUMBER_CHECKS, ids=lambda c: c.__name__)
+@pytest.mark.parametrize("value", [np.nan, np.inf, "0.1", [0.1, 0.2], None],
+                         ids=["nan", "inf", "text", "two", "none"])
+def test_a_check_that_wants_one_number_says_so(check, value):
+    # every such check reads the answer through check._answers.one_number
+    status, out = _run(check, lambda *args: value)
+    assert status == "incorrect" and "expected one number" in out

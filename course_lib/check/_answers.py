@@ -71,6 +71,17 @@ def as_scalar(answer) -> float | None:
     return float(arr.reshape(()))
 
 
+def one_number(ck: Checker, what: str, got, kind: str = "") -> float | None:
+    """The answer as one real number, or None after recording "expected one number" (with
+    ``kind``, e.g. "a step in s", saying which) for anything else, NaN and inf included."""
+    value = as_scalar(got)
+    if value is None or not np.isfinite(value):
+        ck.expect(False, what, f"expected one number{f' ({kind})' if kind else ''}, "
+                  f"got {got!r}"[:160])
+        return None
+    return value
+
+
 def rtol_for(answer, rtol: float) -> float:
     """``rtol``, or more if the answer carries fewer digits than float64 (float32: ~8e-6)."""
     arr = as_array(answer, complex_ok=True)

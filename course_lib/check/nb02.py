@@ -25,7 +25,7 @@ from scipy.optimize import brentq
 from .. import fields
 from ..integrators import forward_euler, integrate
 from . import Checker, exercise
-from ._answers import as_scalar, call, close, kutta3, step_cases
+from ._answers import call, close, kutta3, one_number, step_cases
 
 _SLOPE_AT_END = (
     "the slope must be taken at the START of the step, f(t, y); you used the end of "
@@ -135,11 +135,10 @@ def drift_dt(ck: Checker, student) -> None:
         ok, got = call(ck, what, student, tol)
         if not ok:
             continue
-        dt = as_scalar(got)
+        dt = one_number(ck, what, got, "a step in s")
         if dt is None:
-            ck.expect(False, what, f"expected one number (a step in s), got {got!r}"[:160])
             continue
-        if not (math.isfinite(dt) and dt > 0):
+        if dt <= 0:
             ck.expect(False, what, f"expected a step dt > 0, got {dt!r}")
             continue
         best = largest_drift_dt(tol)
@@ -221,9 +220,8 @@ def observed_order(ck: Checker, student) -> None:
         ok, got = call(ck, what, student, step, f, np.array(y0), T, n)
         if not ok:
             continue
-        p = as_scalar(got)
-        if p is None or not math.isfinite(p):
-            ck.expect(False, what, f"expected one number, got {got!r}"[:160])
+        p = one_number(ck, what, got)
+        if p is None:
             continue
         if math.isclose(p, expected, rel_tol=1e-6, abs_tol=1e-9):
             ck.expect(True, f"{what}: p = {p:.4f}")

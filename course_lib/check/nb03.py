@@ -17,7 +17,7 @@ import numpy as np
 
 from ..stability import max_stable_dt
 from . import Checker, exercise
-from ._answers import as_array, as_scalar, call, kutta3, rtol_for
+from ._answers import as_array, call, kutta3, one_number, rtol_for
 
 # --- exercise 1: R(z) of a method, from one step ---------------------------------------
 
@@ -131,9 +131,8 @@ def largest_stable_dt(ck: Checker, student) -> None:
         ok, got = call(ck, what, student, f, np.array(y0), method, dt_hi)
         if not ok:
             continue
-        dt = as_scalar(got)
-        if dt is None or not np.isfinite(dt):
-            ck.expect(False, what, f"expected one number (a step in s), got {got!r}"[:160])
+        dt = one_number(ck, what, got, "a step in s")
+        if dt is None:
             continue
         error = dt / limit - 1.0
         detail = f"expected {limit:.5g} s within {LIMIT_RTOL:.0%}, got {dt:.5g} s ({error:+.1%})"
