@@ -20,7 +20,7 @@ WITH_EXERCISES = [p for p in SOLUTIONS if check_module(read(p))]
 def run_exercises(path):
     nb = read(path)
     cells = code_cells(nb)
-    namespace: dict = {}
+    namespace: dict = {"__name__": "__main__"}  # judged like a notebook's own code
     check.RESULTS.clear()
     with contextlib.redirect_stdout(io.StringIO()) as out:
         exec(compile(cells[0].source, f"{path.name}:imports", "exec"), namespace)

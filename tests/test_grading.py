@@ -207,7 +207,10 @@ def test_magics_become_harmless_python():
     ("step = cl.forward_euler\n    return step(f, t, y, dt)", "forward_euler"),
     ("return (lambda: check.forward_euler_step)()", "check"),
     ("return y + dt * f(t, y)", None),
-    ("return y + dt * cl.fields.vortex(t, y)", None),
+    # the library rule is derived: any library call the prompt does not hand over counts
+    ("return y + dt * cl.fields.vortex(t, y)", "course_lib.fields.vortex"),
+    ("return 2 * cl.backward_euler(f, t, y, dt / 2) - y", "backward_euler"),
+    ("return y + dt * f(t, y) if cl.BlowUpError else y", None),
 ])
 def test_reference_use_in_the_grader_and_in_the_check(body, flagged):
     head = "import course_lib as cl\nfrom course_lib.check import nb02 as check\n"

@@ -86,17 +86,24 @@ def _fmt(x: np.ndarray) -> str:
     return np.array2string(np.asarray(x), precision=6, suppress_small=True, separator=", ")
 
 
-def exercise(func: Callable | None = None, *, points: int = 1, reference: tuple = ()):
+def exercise(func: Callable | None = None, *, points: int = 1, allow: tuple = (),
+             forbid: tuple = (), reference: tuple = ()):
     """Turn ``func(checker, answer, ...)`` into a check called as ``check(answer, ...)``.
 
     The decorated check prints one verdict and records it in :data:`RESULTS`.
     ``NotImplementedError`` from the student's code means "pending"; any other exception
-    from it is reported as a failure with the exception's message. An answer that uses
-    the reference (see :mod:`course_lib.instructor.policy`; ``reference`` adds callables
-    or dotted names to the automatic ones) fails with that reason.
+    from it is reported as a failure with the exception's message.
+
+    An answer may call no ``course_lib`` callable except those in ``allow`` (objects or
+    dotted names: the building blocks the prompt hands over) and what the check passes to
+    it; any other library call, found in its bytecode or watched while it runs, fails as
+    "uses the reference" (:mod:`course_lib.check.policy`, :mod:`course_lib.check.watch`).
+    ``forbid`` adds dotted prefixes outside the library (``"scipy.integrate"``) or objects;
+    ``reference`` is its older name.
     """
     if func is None:
-        return functools.partial(exercise, points=points, reference=reference)
+        return functools.partial(exercise, points=points, allow=allow, forbid=forbid,
+                                 reference=reference)
     key = f"{func.__module__.rsplit('.', 1)[-1]}.{func.__name__}"
     REGISTRY[key] = points
 
@@ -118,6 +125,7 @@ def exercise(func: Callable | None = None, *, points: int = 1, reference: tuple 
                 print(f"   ✗ {msg}")
 
     run.key, run.points, run.references = key, points, tuple(reference)
+    run.allow, run.forbid = tuple(allow), tuple(forbid)
     return run
 
 
@@ -131,12 +139,18 @@ def evaluate(check: Callable, *args, **kwargs) -> dict:
     """
     ck = Checker(check.__name__)
     verdict = {"status": "incorrect", "points": check.points, "error": None, "reference": None}
+    watch = None
     try:  # the policy must never break a check: on any failure, assume no reference use
-        from ..instructor.policy import reference_use
+        from .policy import exercise_rules, message, reference_use
+        from .watch import LibraryWatch, watched_answer
 
         verdict["reference"] = reference_use(check, args[0]) if args else None
+        if args and not verdict["reference"] and watched_answer(args[0]):
+            rules = exercise_rules(check)
+            watch = LibraryWatch(rules["allow"], rules["prefixes"])
+            args = (watch.wrap(args[0]), *args[1:])
     except Exception:
-        pass
+        watch = None
     if verdict["reference"]:
         ck.failed.append(verdict["reference"])
     else:
@@ -147,6 +161,9 @@ def evaluate(check: Callable, *args, **kwargs) -> dict:
         except Exception as exc:  # the student's code failed: say how, do not crash the notebook
             verdict["error"] = f"{type(exc).__name__}: {exc}"
             ck.failed.append(f"your code raised {verdict['error']}")
+        if watch is not None and watch.found and verdict["status"] != "pending":
+            verdict["reference"] = message(watch.found)
+            ck.failed.insert(0, verdict["reference"])
     if verdict["status"] == "pending":
         ck.passed, ck.failed = [], []
     elif not ck.failed:

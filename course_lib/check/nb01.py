@@ -97,7 +97,7 @@ def whirlpool_reference(t: float, X, k: float = 0.5) -> np.ndarray:
     return fields.compose(fields.vortex, fields.scaled(fields.radial, -k))(t, X)
 
 
-@exercise
+@exercise(allow=("course_lib.fields.vortex",))
 def whirlpool(ck: Checker, whirlpool) -> None:
     """The whirlpool V = (-y, x) - k (x, y), against ``compose(vortex, scaled(radial, -k))``."""
     for k, points in ((0.5, None), (2.0, _points()[3:4])):

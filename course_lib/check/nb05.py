@@ -1,7 +1,7 @@
 """Checks for notebook 05, Newton's second law.
 
 Every exercise names the course_lib functions it must not call (besides the automatic ones
-of :mod:`course_lib.instructor.policy`): an answer that calls them earns nothing.
+of :mod:`course_lib.check.policy`): an answer that calls them earns nothing.
 """
 
 from __future__ import annotations

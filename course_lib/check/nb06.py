@@ -1,7 +1,7 @@
 """Checks for notebook 06, forces.
 
 Every exercise names the course_lib functions it must not call (``@exercise(reference=...)``,
-see :mod:`course_lib.instructor.policy`): an answer that calls them earns nothing.
+see :mod:`course_lib.check.policy`): an answer that calls them earns nothing.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Checks for notebook 07, springs and mass-spring systems.
 
 Every exercise names the course_lib function it must not call (``@exercise(reference=...)``,
-see :mod:`course_lib.instructor.policy`): an answer that calls it earns nothing.
+see :mod:`course_lib.check.policy`): an answer that calls it earns nothing.
 """
 
 from __future__ import annotations

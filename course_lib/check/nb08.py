@@ -1,7 +1,7 @@
 """Checks for notebook 08, hair as chains of masses and springs.
 
 Every exercise names the course_lib functions it must not call (``@exercise(reference=...)``,
-see :mod:`course_lib.instructor.policy`): an answer that calls them earns nothing.
+see :mod:`course_lib.check.policy`): an answer that calls them earns nothing.
 """
 
 from __future__ import annotations
@@ -91,7 +91,7 @@ def strand_springs(ck: Checker, func) -> None:
                  mistakes=mistakes, hint="rest = |x0[i] - x0[j]| for every spring")
 
 
-@exercise(reference=(lesson.max_strain_vs_substeps, hair.max_strain))
+@exercise(allow=(hair.simulate, lesson.stiffest_edge, "course_lib.springs.hair_chain"))
 def max_strain_for_substeps(ck: Checker, func) -> None:
     """``func(substep_counts) -> list``: max edge strain for each substep budget."""
     counts = [10, 20, 40]

@@ -4,7 +4,7 @@ Command line: ``python -m course_lib.instructor {student,execute,figures,grade,r
 (or ``make student``, ``make execute``, ``make grade``, ``make release``, ``make nbgrader``);
 docs/INSTRUCTORS.md walks through the whole cycle.
 
-Submodules are imported on first use, so the checks can import :mod:`.policy` cheaply.
+Submodules are imported on first use.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ nothing the student wrote is executed here). It finds
   function uses the reference (the rule of :mod:`.policy`, applied to compiled bytecode).
 
 IPython syntax (``%magic``, ``!shell``) is neutralised by :func:`strip_magics` the same
-way here and in the worker. Imports: the standard library and :mod:`.policy`.
+way here and in the worker. Imports: the standard library and :mod:`course_lib.check.policy`.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import threading
 import types
 from dataclasses import dataclass
 
-from . import policy
+from course_lib.check import policy
 
 _MAGIC = re.compile(r"^(\s*)([%!].*)$")
 _ASSIGNED_MAGIC = re.compile(r"^(\s*[\w.]+\s*=\s*)[%!].*$")
