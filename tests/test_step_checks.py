@@ -14,7 +14,6 @@ import io
 
 import numpy as np
 import pytest
-
 from scipy.optimize import root
 
 from course_lib.check import RESULTS, nb02, nb03, nb04, nb05
