@@ -42,7 +42,8 @@ def modules():
 
 def imports_of(module: str, path: Path):
     """Absolute names of everything ``path`` imports, at any depth of the file."""
-    package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
+    # the package a relative import starts from: "course_lib.check" for check/__init__.py
+    package = module.removesuffix(".__init__") if path.name == "__init__.py" else module.rsplit(".", 1)[0]
     for node in ast.walk(ast.parse(path.read_text())):
         if isinstance(node, ast.Import):
             for alias in node.names:
@@ -117,3 +118,46 @@ def test_core_names_stay_where_they_were(module):
     mod = importlib.import_module(module)
     missing = [n for n in CORE_NAMES[module] if not hasattr(mod, n)]
     assert not missing, f"{module} lost {missing}"
+
+
+def _import_graph() -> dict[str, set[str]]:
+    known = {m for m, _ in MODULES}
+    graph: dict[str, set[str]] = {}
+    for module, path in MODULES:
+        targets = set()
+        for target in imports_of(module, path):
+            # "from course_lib.x import y" names module x, or x.y when y is a submodule
+            while target and target not in known:
+                target = target.rpartition(".")[0]
+            if target and target != module and target.startswith("course_lib."):
+                targets.add(target.removesuffix(".__init__"))
+        graph[module.removesuffix(".__init__")] = targets
+    return graph
+
+
+def test_no_import_circles_lazy_imports_included():
+    """Imports point one way inside a layer too: no module reaches itself through imports,
+    whether they sit at the top of a file or inside a function. Imports of a package's own
+    ``__init__`` by its submodules are the package's business and not counted."""
+    graph = _import_graph()
+    circles: list[list[str]] = []
+    state: dict[str, int] = {}
+    stack: list[str] = []
+
+    def visit(node: str) -> None:
+        state[node] = 1
+        stack.append(node)
+        for nxt in sorted(graph.get(node, ())):
+            if node.startswith(nxt + "."):
+                continue  # a submodule importing its own package
+            if state.get(nxt) == 1:
+                circles.append([*stack[stack.index(nxt):], nxt])
+            elif nxt in graph and not state.get(nxt):
+                visit(nxt)
+        stack.pop()
+        state[node] = 2
+
+    for node in sorted(graph):
+        if not state.get(node):
+            visit(node)
+    assert not circles, "import circles:\n" + "\n".join(" -> ".join(c) for c in circles)
