@@ -27,6 +27,10 @@ import numpy as np
 RESULTS: dict[str, dict] = {}
 #: Every exercise any imported check module defines, with its points.
 REGISTRY: dict[str, int] = {}
+#: Wrong verdicts per exercise in this kernel, so that hints can escalate (see Checker.pick).
+FAILURES: dict[str, int] = {}
+#: A hint: one string, or a tuple that escalates from a nudge to a fuller explanation.
+Hint = str | tuple[str, ...] | None
 
 
 @dataclass
@@ -36,14 +40,26 @@ class Checker:
     name: str
     passed: list[str] = field(default_factory=list)
     failed: list[str] = field(default_factory=list)
+    #: How many times this exercise was already judged wrong in this kernel (0 in the grader).
+    attempt: int = 0
 
-    def expect(self, ok: bool, what: str, detail: str = "", hint: str | None = None) -> bool:
-        """Record a case: ``what`` describes it, ``detail`` and ``hint`` explain a failure."""
+    def pick(self, hint: Hint) -> str | None:
+        """The hint to show now: a tuple ``(nudge, more, ...)`` escalates one step per earlier
+        wrong attempt (a nudge first; the fuller explanation only after another failure)."""
+        if isinstance(hint, tuple):
+            return hint[min(self.attempt, len(hint) - 1)] if hint else None
+        return hint
+
+    def expect(self, ok: bool, what: str, detail: str = "", hint: Hint = None) -> bool:
+        """Record a case: ``what`` describes it, ``detail`` and ``hint`` explain a failure.
+
+        ``hint`` is a string, or a tuple of strings that escalates (see :meth:`pick`).
+        """
         if ok:
             self.passed.append(what)
         else:
             msg = f"{what}: {detail}" if detail else what
-            if hint:
+            if hint := self.pick(hint):
                 msg += f"\n      hint: {hint}"
             self.failed.append(msg)
         return bool(ok)
@@ -56,8 +72,8 @@ class Checker:
         *,
         rtol: float = 1e-9,
         atol: float = 1e-12,
-        hint: str | None = None,
-        mistakes: dict[str, object] | None = None,
+        hint: Hint = None,
+        mistakes: dict[Hint, object] | None = None,
     ) -> bool:
         """Record whether ``actual`` matches ``expected`` numerically.
 
@@ -111,6 +127,8 @@ def exercise(func: Callable | None = None, *, points: int = 1, allow: tuple = ()
     def run(*args, **kwargs) -> None:
         verdict = evaluate(run, *args, **kwargs)
         status, passed, failed = verdict["status"], verdict["passed_cases"], verdict["failed_cases"]
+        if status == "incorrect":
+            FAILURES[key] = FAILURES.get(key, 0) + 1
         RESULTS[key] = {k: verdict[k] for k in ("status", "passed", "total", "points")}
         if status == "pending":
             print(f"○ {func.__name__}: pending — replace `raise NotImplementedError()` with your code, "
@@ -137,7 +155,7 @@ def evaluate(check: Callable, *args, **kwargs) -> dict:
     (the exception the answer raised, if any) and ``reference`` (why the answer counts
     as using the reference, if it does). The grader and nbgrader tests call this.
     """
-    ck = Checker(check.__name__)
+    ck = Checker(check.__name__, attempt=FAILURES.get(getattr(check, "key", ""), 0))
     verdict = {"status": "incorrect", "points": check.points, "error": None, "reference": None}
     watch = None
     try:  # the policy must never break a check: on any failure, assume no reference use
