@@ -11,6 +11,7 @@ import sys
 
 import numpy as np
 import pytest
+from notebook_helpers import ROOT
 
 import course_lib as cl
 from course_lib.check import Checker, evaluate, exercise, nb02, nb03
@@ -123,3 +124,28 @@ def test_a_pending_answer_stays_pending():
     assert evaluate(nb02.forward_euler_step, stub)["status"] == "incorrect"
     blank = answer("def forward_euler_step(f, t, y, dt):\n    raise NotImplementedError()")
     assert evaluate(nb02.forward_euler_step, blank)["status"] == "pending"
+
+
+def test_the_grader_refuses_a_library_call_that_only_the_run_shows(tmp_path):
+    """A name the compiler folds from strings hides the call from the bytecode reading; the
+    watch inside the sandboxed worker sees it, and the grader refuses the answer."""
+    import nbformat
+
+    from course_lib.instructor import grade_notebook
+    from course_lib.instructor.notebooks import BEGIN
+
+    nb = nbformat.read(ROOT / "notebooks" / "02_forward_euler.ipynb", as_version=4)
+    hidden = ("def forward_euler_step(f, t, y, dt):\n"
+              "    import course_lib\n"
+              "    return getattr(course_lib, 'forward_' + 'euler')(f, t, y, dt)\n")
+    for cell in nb.cells:
+        if cell.cell_type == "code" and "def forward_euler_step(" in cell.source:
+            tail = cell.source[cell.source.index("check."):]
+            cell.source = hidden + "\n" + tail
+    assert BEGIN not in hidden
+    path = tmp_path / "alice" / "02_forward_euler.ipynb"
+    path.parent.mkdir()
+    nbformat.write(nb, path)
+    rows = {r["exercise"]: r for r in grade_notebook(path, "02_forward_euler")}
+    row = rows["forward_euler_step"]
+    assert row["status"] == "incorrect" and "uses the reference" in row["message"], row

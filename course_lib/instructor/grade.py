@@ -121,7 +121,9 @@ def _grade_task(task: Task, runtime: Runtime, kit: dict[str, Assignment], limits
             status, message, details = judge(a.check(e), record, limits.exercise_s)
             itself = str(record.get("module", "")).startswith("course_lib")
             reference = bindings[e.name].reference or (
-                f"uses the reference: {e.name} is a course_lib function" if itself else None)
+                f"uses the reference: {e.name} is a course_lib function" if itself else None) or (
+                record.get("library") if str(record.get("library", "")).startswith("uses the reference")
+                else None)
             if reference and status in ("correct", "incorrect", "error"):
                 status, message = "incorrect", reference
         results.append((e, status, message, details))
