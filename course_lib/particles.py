@@ -10,6 +10,11 @@ imports NumPy and :mod:`course_lib._validate` only.
 Reeves calls the half-width of a uniform spread its "variance": an attribute drawn as
 ``mean + variance × U(−1, 1)`` lies in ``[mean − variance, mean + variance]`` and has the
 statistical variance ``variance² / 3``. We keep his word.
+
+Ages are counted, not summed (Reeves counted lifetimes in frames): age = ``steps × dt``,
+one rounding, where a sum ``age += dt`` drifts and can keep a particle whose lifetime is
+``m dt`` alive a frame too long. An age *reaches* a lifetime within :data:`LIFETIME_RTOL`
+(:func:`reached`); the expected population uses the same rule and agrees with a run.
 """
 
 from __future__ import annotations
@@ -22,6 +27,15 @@ import numpy as np
 from . import _validate
 
 SHAPES = ("point", "disc", "ring", "sphere")
+#: Tolerance of :func:`reached`: ``m dt`` and a decimal lifetime differ by ~1.5 ulp at most.
+LIFETIME_RTOL = 4.0 * np.finfo(float).eps
+#: Hidden per-particle arrays: steps lived since the age was last set, and that age (s).
+_CLOCK = {"steps": (), "age_at": ()}
+
+
+def reached(age, lifetime):
+    """Has ``age`` (s) reached ``lifetime`` (s)? ``age >= lifetime (1 − LIFETIME_RTOL)``."""
+    return np.asarray(age) >= np.asarray(lifetime) * (1.0 - LIFETIME_RTOL)
 
 
 class ParticleSystem:
@@ -41,7 +55,8 @@ class ParticleSystem:
     Notes
     -----
     ``system["x"]`` is a *view* of the live rows. A frame is emit (:meth:`add`), update
-    (:meth:`step`, :meth:`advect`) and delete (:meth:`expire`).
+    (:meth:`step`, :meth:`advect`) and delete (:meth:`expire`). ``age`` is derived (the age
+    added with, plus ``steps × dt``; a new ``dt`` counts again from the current ages).
     """
 
     def __init__(self, dim: int = 3, capacity: int = 1024,
@@ -50,13 +65,13 @@ class ParticleSystem:
             raise ValueError(f"dim must be 2 or 3, got {dim!r}")
         if not isinstance(capacity, int | np.integer) or capacity < 1:
             raise ValueError(f"capacity must be an integer >= 1, got {capacity!r}")
-        self.dim, self.n = dim, 0
+        self.dim, self.n, self._dt = dim, 0, None
         self.shapes = {"x": (dim,), "v": (dim,), "age": (), "lifetime": ()}
         for name, shape in (attributes or {}).items():
-            if name in self.shapes:
+            if name in self.shapes or name in _CLOCK:
                 raise ValueError(f"attribute {name!r} is built in; choose another name")
             self.shapes[name] = tuple(shape)
-        self._data = {name: np.zeros((capacity, *s)) for name, s in self.shapes.items()}
+        self._data = {name: np.zeros((capacity, *s)) for name, s in {**self.shapes, **_CLOCK}.items()}
 
     @property
     def capacity(self) -> int:
@@ -64,9 +79,10 @@ class ParticleSystem:
 
     def __len__(self) -> int:
         return self.n
+
     def __getitem__(self, name: str) -> np.ndarray:
         """The live rows of attribute ``name`` (a view)."""
-        if name not in self._data:
+        if name not in self.shapes:
             raise KeyError(f"no attribute {name!r}; the attributes are {', '.join(self.shapes)}")
         return self._data[name][: self.n]
 
@@ -94,20 +110,31 @@ class ParticleSystem:
         k = x.shape[0]
         self._reserve(k)
         rows = slice(self.n, self.n + k)
+        values = {**values, "age_at": values.get("age", 0.0)}
         for name, arr in self._data.items():
-            arr[rows] = np.broadcast_to(values.get(name, 0.0), (k, *self.shapes[name]))
+            arr[rows] = np.broadcast_to(values.get(name, 0.0), (k, *arr.shape[1:]))
         self.n += k
         return k
 
+    def _tick(self, dt: float) -> None:
+        """Count one step of ``dt`` (s) and set every age from its count."""
+        steps, age_at = self._data["steps"][: self.n], self._data["age_at"][: self.n]
+        if dt != self._dt:                      # a new step size: count again from here
+            age_at[...] = self["age"]
+            steps[...] = 0.0
+            self._dt = dt
+        steps += 1.0
+        self["age"][...] = age_at + steps * dt
+
     def step(self, dt: float, acceleration=None) -> None:
-        """Symplectic Euler: ``v += dt a``, ``x += dt v``, ``age += dt``; ``acceleration``
+        """Symplectic Euler: ``v += dt a``, ``x += dt v``, one step older; ``acceleration``
         (m/s²) broadcasts to ``(n, dim)`` or is a callable ``acceleration(system)``."""
         dt = _validate.positive_finite("dt", dt)
         if acceleration is not None:
             a = acceleration(self) if callable(acceleration) else acceleration
             self["v"][...] += dt * np.asarray(a, dtype=float)
         self["x"][...] += dt * self["v"]
-        self["age"][...] += dt
+        self._tick(dt)
 
     def advect(self, t: float, dt: float, field: Callable) -> None:
         """Carry the particles by a velocity field ``V(t, x)`` with one midpoint (RK2) step;
@@ -118,7 +145,7 @@ class ParticleSystem:
         vel = np.asarray(field(t + 0.5 * dt, mid))
         x += dt * vel
         self["v"][...] = vel
-        self["age"][...] += dt
+        self._tick(dt)
 
     def compact(self, keep) -> int:
         """Keep the live particles where ``keep`` is True, packed to the front in order
@@ -127,16 +154,14 @@ class ParticleSystem:
         if keep.shape != (self.n,):
             raise ValueError(f"keep must have shape ({self.n},), got {keep.shape}")
         idx = np.flatnonzero(keep)
-        m = idx.size
-        if m < self.n:
-            for arr in self._data.values():
-                arr[:m] = arr[idx]
-        removed, self.n = self.n - m, m
+        for arr in self._data.values() if idx.size < self.n else ():
+            arr[: idx.size] = arr[idx]
+        removed, self.n = self.n - idx.size, idx.size
         return removed
 
     def expire(self) -> int:
         """Delete every particle whose age has reached its lifetime; returns how many."""
-        return self.compact(self["age"] < self["lifetime"])
+        return self.compact(~reached(self["age"], self["lifetime"]))
 
 
 # --- random draws in the style of Reeves ---------------------------------------------------
@@ -158,8 +183,7 @@ def reeves_count(mean: float, variance: float, rng: np.random.Generator) -> int:
 def _plane_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     n = normal / np.linalg.norm(normal)
     helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    e1 = np.cross(n, helper)
-    e1 /= np.linalg.norm(e1)
+    e1 = np.cross(n, helper) / np.linalg.norm(np.cross(n, helper))
     return e1, np.cross(n, e1)
 
 
@@ -178,9 +202,9 @@ def sample_shape(shape: str, k: int, rng: np.random.Generator, center=(0.0, 0.0,
         raise ValueError(f"center must have shape (2,) or (3,), got {c.shape}")
     if shape == "point":
         return np.tile(c, (k, 1))
+    if shape == "sphere" and c.size != 3:
+        raise ValueError("shape 'sphere' needs a 3D center; use 'ring' in 2D")
     if shape == "sphere":
-        if c.size != 3:
-            raise ValueError("shape 'sphere' needs a 3D center; use 'ring' in 2D")
         u = rng.normal(size=(k, 3))
         return c + radius * u / np.linalg.norm(u, axis=1, keepdims=True)
     r = radius * (np.sqrt(rng.random(k)) if shape == "disc" else np.ones(k))
@@ -271,28 +295,36 @@ class Emitter:
 
 
 def survival(age, lifetime: float, lifetime_variance: float = 0.0) -> np.ndarray:
-    """``P(lifetime > age)`` for lifetimes uniform on ``[L − V, L + V]``."""
+    """``P(age has not reached ℓ)`` for lifetimes ``ℓ`` uniform on ``[L − V, L + V]`` (s):
+    with ``V = 0`` exactly what a run does (:func:`reached`); with ``V > 0`` the tolerance
+    of :func:`reached` would move it by ~1e-16 and is left out."""
     age = np.asarray(age, dtype=float)
     if lifetime_variance == 0.0:
-        return (age < lifetime).astype(float)
+        return (~reached(age, lifetime)).astype(float)
     return np.clip((lifetime + lifetime_variance - age) / (2.0 * lifetime_variance), 0.0, 1.0)
 
 
 def expected_population(mean_counts, dt: float, lifetime: float,
                         lifetime_variance: float = 0.0) -> np.ndarray:
-    """Exact expected live count after each frame of emit, step, expire: a particle
-    emitted in frame ``k`` is ``(j − k + 1) dt`` old after frame ``j``, so
-    ``E[N_j] = Σ_k μ_k P(ℓ > (j − k + 1) dt)``, a convolution of the mean counts ``μ_k``
-    with the survival function."""
+    """Exact expected live count after each frame of emit, step, expire.
+
+    A particle emitted in frame ``k`` has lived ``j − k + 1`` steps when counted after
+    frame ``j``, so its age is ``(j − k + 1) dt`` (computed as a run computes it), and
+    ``E[N_j] = Σ_k μ_k S((j − k + 1) dt)``: a convolution of the mean counts ``μ_k``
+    (shape ``(frames,)``) with the survival function :func:`survival`.
+    """
     mu = np.asarray(mean_counts, dtype=float)
-    s = survival(dt * np.arange(1, mu.size + 1), lifetime, lifetime_variance)
+    s = survival(np.arange(1, mu.size + 1, dtype=float) * dt, lifetime, lifetime_variance)
     return np.convolve(mu, s)[: mu.size]
 
 
 def steady_population(mean_count: float, dt: float, lifetime: float,
                       lifetime_variance: float = 0.0) -> float:
-    """Long-run expected population ``μ Σ_{m>=1} P(ℓ > m dt)`` for a constant mean count:
-    ``μ (L/dt − 1/2)`` when ``L ± V`` are multiples of ``dt``, Little's law (rate × mean
-    lifetime) less half a frame of emission, as we count at the ends of frames."""
-    m = np.arange(1, int(np.ceil((lifetime + lifetime_variance) / dt)) + 2)
+    """Long-run expected population for a constant mean count ``μ`` per frame,
+    ``μ Σ_{m>=1} S(m dt)`` (counted at frame ends, at ages ``dt, 2 dt, ...``). When
+    ``(L ± V)/dt`` are whole and ``V > 0`` it is ``μ (L/dt − 1/2)``: Little's law (rate ×
+    mean lifetime, ``μ L/dt``) less half a frame of emission. With ``V = 0`` and ``L/dt``
+    whole it is ``μ (L/dt − 1)``: a particle lives ``L/dt`` steps, deleted before the count.
+    """
+    m = np.arange(1, int(np.ceil((lifetime + lifetime_variance) / dt)) + 2, dtype=float)
     return float(mean_count * survival(m * dt, lifetime, lifetime_variance).sum())

@@ -176,3 +176,91 @@ def test_steady_population_is_little_less_half_a_frame():
     assert ramp[-1] == pytest.approx(2980.0, rel=1e-12)
     assert ramp[58] == pytest.approx(40 * 59, rel=1e-12)          # nobody dies before 2 s
     assert P.survival([0.5, 1.0, 1.5], 1.0, 0.5).tolist() == [1.0, 0.5, 0.0]
+
+
+# --- ages are counted, not summed (issue 20) ----------------------------------------------
+
+
+def test_a_lifetime_of_m_frames_dies_after_exactly_m_frames():
+    """Lifetimes m/n s at dt = 1/n s, and the same lifetimes typed as m × dt: every
+    particle dies at the end of its m-th step. A running sum age += dt kept thousands of
+    them alive a step too long (0.1 + ... + 0.1, eight times, is below 0.8)."""
+    for n in (10, 24, 30, 60, 100):
+        dt = 1.0 / n
+        m = np.arange(1, 3 * n + 1)
+        for lifetimes in (m / n, m * dt):
+            ps = P.ParticleSystem(2, capacity=m.size)
+            ps.add(x=np.zeros((m.size, 2)), lifetime=lifetimes)
+            died_at = np.zeros(m.size, dtype=int)
+            alive = np.arange(m.size)
+            for step in range(1, 3 * n + 2):
+                ps.step(dt)
+                gone = P.reached(ps["age"], ps["lifetime"])
+                died_at[alive[gone]] = step
+                alive = alive[~gone]
+                ps.expire()
+            assert np.array_equal(died_at, m), (n, np.flatnonzero(died_at != m)[:5])
+    ps = P.ParticleSystem(2)
+    ps.add(x=np.zeros((1, 2)), lifetime=0.8)
+    for _ in range(8):
+        ps.step(0.1)
+    assert ps.expire() == 1
+
+
+def test_ages_restart_their_count_when_the_step_changes():
+    ps = P.ParticleSystem(2)
+    ps.add(x=np.zeros((2, 2)), age=[0.0, 0.5], lifetime=10.0)
+    for _ in range(3):
+        ps.step(0.1)
+    ps.add(x=np.zeros((1, 2)), lifetime=10.0)
+    for _ in range(4):
+        ps.step(0.25)
+    assert np.allclose(ps["age"], [1.3, 1.8, 1.0], rtol=0, atol=1e-15)
+    assert ps["age"][2] == 4 * 0.25                               # counted: one rounding
+
+
+@pytest.mark.parametrize("dt,life", [(0.1, 0.8), (1 / 30, 2.5), (1 / 60, 0.7), (0.05, 0.35),
+                                     (1 / 24, 1.0), (0.1, 0.3)])
+def test_expected_population_matches_deterministic_runs_frame_by_frame(dt, life):
+    mu, frames = 3.0, round(life / dt) + 6
+    em = P.Emitter(count=mu, lifetime=life, center=(0.0, 0.0), speed=0.0)
+    ps, rng, pops = P.ParticleSystem(2), np.random.default_rng(0), []
+    for f in range(frames):
+        em.emit(ps, f * dt, rng)
+        ps.step(dt)
+        ps.expire()
+        pops.append(len(ps))
+    expected = P.expected_population(np.full(frames, mu), dt, life)
+    assert np.array_equal(pops, expected)
+    steady = mu * (round(life / dt) - 1)                          # V = 0: L/dt - 1 per count
+    assert pops[-1] == steady == P.steady_population(mu, dt, life)
+
+
+def test_expected_population_matches_random_lifetimes_frame_by_frame():
+    """Random lifetimes, a growing count: each frame's population is a sum of independent
+    survivals, so the measurement lies within 4 standard deviations of the expectation
+    at every frame (a binomial-like variance, bounded by the expectation itself)."""
+    dt, life, var, frames = 1 / 30, 0.5, 0.2, 40
+    mean_counts = np.round(200 + 20 * np.arange(frames)).astype(float)
+    ps, rng, pops = P.ParticleSystem(2, 4096), np.random.default_rng(12), []
+    for f in range(frames):
+        ps.add(x=np.zeros((int(mean_counts[f]), 2)),
+               lifetime=P.around(life, var, int(mean_counts[f]), rng))
+        ps.step(dt)
+        ps.expire()
+        pops.append(len(ps))
+    expected = P.expected_population(mean_counts, dt, life, var)
+    assert np.all(np.abs(np.array(pops) - expected) <= 4 * np.sqrt(expected) + 1e-12)
+    assert np.array_equal(np.array(pops)[:9], np.cumsum(mean_counts)[:9])   # nobody dies < 0.3 s
+
+
+@pytest.mark.parametrize("dt", [1 / 30, 0.1, 1 / 60])
+def test_steady_population_says_what_it_computes(dt):
+    for life, var in [(2.5, 0.5), (1.0, 0.3), (0.6, 0.2)]:
+        whole = round((life - var) / dt), round((life + var) / dt)
+        if not np.allclose(whole, [(life - var) / dt, (life + var) / dt], rtol=1e-12):
+            continue
+        assert P.steady_population(10.0, dt, life, var) == pytest.approx(10 * (life / dt - 0.5), rel=1e-12)
+        ramp = P.expected_population(np.full(400, 10.0), dt, life, var)
+        assert ramp[-1] == pytest.approx(P.steady_population(10.0, dt, life, var), rel=1e-12)
+    assert P.steady_population(10.0, dt, 1.0) == pytest.approx(10 * (1.0 / dt - 1), rel=1e-12)
