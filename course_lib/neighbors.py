@@ -11,9 +11,10 @@ because they share one definition of a pair:
     ``i < j`` is a pair when ``|d|² <= radius²``, with ``d = minimum_image(w_j − w_i)``,
 
 where ``w`` are the positions wrapped into the box (unchanged in open space) and ``|d|²``
-is summed coordinate by coordinate in order. The tree only proposes candidates, with a
-radius widened by a few units of round-off (its own distance arithmetic differs from ours
-in the last bits); the candidates are then judged by that one definition. Coincident
+is summed coordinate by coordinate in order (:func:`squared_norms`). The tree only
+proposes candidates, with a radius widened by a few units of round-off (its own distance
+arithmetic differs from ours in the last bits); the candidates are then judged by that
+one definition. Coincident
 points (``d = 0``) are pairs too: what a model does with them is the model's business.
 
 Core module: imports NumPy and SciPy only. Units: positions, offsets, distances, radius
@@ -119,12 +120,16 @@ def minimum_image(d, box) -> np.ndarray:
     return d - sides * np.round(d / sides)
 
 
-def _squared_norms(d: np.ndarray) -> np.ndarray:
-    """``|d|²`` over the last axis, summed coordinate by coordinate in order (the same bits
-    for a row wherever it sits in an array, unlike a SIMD reduction)."""
-    out = d[..., 0] * d[..., 0]
-    for k in range(1, d.shape[-1]):
-        out = out + d[..., k] * d[..., k]
+def squared_norms(d) -> np.ndarray:
+    """``|d|²`` over the last axis (shape ``d.shape[:-1]``, m²), summed coordinate by
+    coordinate in order: the same bits for a row wherever it sits in an array (a SIMD
+    reduction may round differently with the array's length and alignment). An offset
+    too large to square gives ``inf`` (no warning): it is never within a radius."""
+    d = np.asarray(d, dtype=float)
+    with np.errstate(over="ignore"):
+        out = d[..., 0] * d[..., 0]
+        for k in range(1, d.shape[-1]):
+            out = out + d[..., k] * d[..., k]
     return out
 
 
@@ -135,8 +140,9 @@ def _empty(dim: int) -> Pairs:
 
 def _judged(w, i, j, radius, sides, sort) -> Pairs:
     """The candidate pairs ``(i, j)`` that the one definition accepts."""
-    d = minimum_image(np.take(w, j, axis=0) - np.take(w, i, axis=0), sides)
-    dist2 = _squared_norms(d)
+    with np.errstate(over="ignore"):       # offsets beyond the float range: not pairs
+        d = minimum_image(np.take(w, j, axis=0) - np.take(w, i, axis=0), sides)
+    dist2 = squared_norms(d)
     keep = dist2 <= radius * radius
     i, j, d, dist2 = i[keep], j[keep], d[keep], dist2[keep]
     if sort:
@@ -196,8 +202,9 @@ def all_pairs(x, radius: float, box=None) -> Pairs:
     found = []
     for start in range(0, n - 1, rows):
         block = np.arange(start, min(start + rows, n - 1))
-        d = minimum_image(w[None, :, :] - w[block, None, :], sides)
-        near = (_squared_norms(d) <= r * r) & (np.arange(n)[None, :] > block[:, None])
+        with np.errstate(over="ignore"):
+            d = minimum_image(w[None, :, :] - w[block, None, :], sides)
+        near = (squared_norms(d) <= r * r) & (np.arange(n)[None, :] > block[:, None])
         a, b = np.nonzero(near)
         found.append((block[a], b))
     i = np.concatenate([f[0] for f in found]).astype(np.intp)
