@@ -1,0 +1,128 @@
+"""A running SPH liquid: state, time stepping, frames and per-step statistics.
+
+:class:`Simulation` holds the fluid's positions and velocities (N, dim), its walls and
+:class:`~course_lib.sph.params.Params`, and advances them with one of :data:`METHODS`
+(``"wcsph"``: Becker & Teschner 2007; ``"iisph"``: Ihmsen et al. 2014), each at its own
+CFL step unless given one. It records, for every step, the step, the solver's sweeps, the
+number of pairs and the density error at the start of the step (mean and largest
+``max(ρ/ρ₀ - 1, 0)``: the compression; a free surface's lower density is not an error).
+A run that turns non-finite stops with :attr:`Simulation.message` saying where.
+Core module.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import iisph, wcsph
+from .params import Params
+
+METHODS = ("iisph", "wcsph")
+
+
+@dataclass
+class Frames:
+    """States saved at the frame times ``t`` (F,): positions ``x`` (F, N, dim) in m,
+    speeds (F, N) in m/s and pressures (F, N) in Pa (pressure solved during the step
+    that ends at the frame; zeros at t = 0)."""
+
+    t: np.ndarray
+    x: np.ndarray
+    speed: np.ndarray
+    p: np.ndarray
+
+
+@dataclass
+class Simulation:
+    """An SPH liquid at positions ``x`` (N, dim, m) with velocities ``v`` (m/s, default 0)
+    between the walls ``wall`` (:class:`~course_lib.sph.boundary.Boundary` or None)."""
+
+    x: np.ndarray
+    params: Params
+    wall: object = None
+    v: np.ndarray | None = None
+    method: str = "iisph"
+    t: float = 0.0
+    p: np.ndarray = field(init=False)
+    stable: bool = field(init=False, default=True)
+    message: str = field(init=False, default="")
+    history: dict = field(init=False)
+
+    def __post_init__(self):
+        if self.method not in METHODS:
+            raise ValueError(f"unknown method {self.method!r}; valid choices are: {', '.join(METHODS)}")
+        self.x = np.array(self.x, dtype=float)
+        if self.x.ndim != 2 or self.x.shape[1] != self.params.dim or not np.all(np.isfinite(self.x)):
+            raise ValueError(f"x must be a finite array of shape (N, {self.params.dim}), got shape "
+                             f"{self.x.shape}")
+        self.v = np.zeros_like(self.x) if self.v is None else np.array(self.v, dtype=float)
+        if self.v.shape != self.x.shape or not np.all(np.isfinite(self.v)):
+            raise ValueError(f"v must be finite with the shape of x, {self.x.shape}, got {self.v.shape}")
+        self.p = np.zeros(len(self.x))
+        self.history = {k: [] for k in ("t", "dt", "iterations", "pairs", "density_error",
+                                        "max_density_error")}
+
+    @property
+    def n(self) -> int:
+        """Number of fluid particles."""
+        return len(self.x)
+
+    @property
+    def steps(self) -> int:
+        """Steps taken so far."""
+        return len(self.history["dt"])
+
+    def step(self, dt: float | None = None, dt_max: float = np.inf) -> dict:
+        """Advance one step (``dt`` in s, default the method's CFL step but at most
+        ``dt_max``); returns the
+        solver's ``info``. A non-finite result leaves the state as it was, sets
+        :attr:`stable` to False and :attr:`message`, and returns ``{}``."""
+        if not self.stable:
+            return {}
+        if dt is not None and not (np.isfinite(dt) and dt > 0):
+            raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
+        with np.errstate(over="ignore", invalid="ignore"):
+            if self.method == "iisph":
+                x, v, info = iisph.step(self.x, self.v, self.params, self.wall, dt, dt_max, self.p)
+            else:
+                x, v, info = wcsph.step(self.x, self.v, self.params, self.wall, dt, dt_max)
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+            self.stable = False
+            self.message = (f"unstable at step {self.steps + 1}, t = {self.t:.4g} s: "
+                            "the state turned non-finite")
+            return {}
+        self.x, self.v, self.p = x, v, info["p"]
+        self.t += info["dt"]
+        compression = np.maximum(info["rho"] / self.params.rho0 - 1.0, 0.0)
+        for key, value in (("t", self.t), ("dt", info["dt"]), ("iterations", info["iterations"]),
+                           ("pairs", info["pairs"]), ("density_error", float(compression.mean())),
+                           ("max_density_error", float(compression.max(initial=0.0)))):
+            self.history[key].append(value)
+        return info
+
+    def run(self, t_end: float, frame_dt: float | None = None, max_steps: int = 1_000_000,
+            on_step=None) -> Frames:
+        """Step until ``t_end`` (s). With ``frame_dt`` (s) the steps are shortened to land on
+        every frame time and the state is saved there (and at the start). ``on_step(sim)``
+        is called after each step. Stops early if the run turns unstable."""
+        if not (np.isfinite(t_end) and t_end > self.t):
+            raise ValueError(f"t_end must be a time after t = {self.t} s, got {t_end!r}")
+        if frame_dt is not None and not (np.isfinite(frame_dt) and frame_dt > 0):
+            raise ValueError(f"frame_dt must be a positive number of seconds, got {frame_dt!r}")
+        frames = [self._frame()]
+        next_frame = self.t + frame_dt if frame_dt else np.inf
+        for _ in range(max_steps):
+            if self.t >= t_end * (1 - 1e-12) or not self.stable:
+                break
+            self.step(dt_max=min(t_end, next_frame) - self.t)
+            if self.stable and self.t >= next_frame * (1 - 1e-12):
+                frames.append(self._frame())
+                next_frame += frame_dt
+            if on_step is not None:
+                on_step(self)
+        return Frames(*(np.array(a) for a in zip(*frames, strict=True)))
+
+    def _frame(self):
+        return (self.t, self.x.copy(), np.linalg.norm(self.v, axis=1), self.p.copy())
