@@ -3,10 +3,9 @@
 The one-step methods live in :mod:`course_lib.steppers` (all their names are importable
 from here too); this module runs one of them over a time grid, checks the run and reports.
 
-The time grid lands exactly on ``t1``. The run takes ``n`` steps of ``dt``: when
-``t1 - t0`` is a whole number of steps to round-off (``|t1 - t0 - n dt| <= 1e-12 (t1 - t0)``
-plus the float spacing of the times), all ``n`` steps are ``dt``; otherwise
-``n = ceil((t1 - t0) / dt)`` and only the last step is shortened, to ``t1 - t[n-1]``.
+The time grid (:mod:`course_lib.timegrid`) lands exactly on ``t1``: every step is ``dt``,
+except, when ``t1 - t0`` is not a whole number of steps (to 8 units in the last place of the
+times), the last one, ``t1 - t[n-1]``, computed from ``t1`` and shorter than ``dt``.
 
 The run is checked, not the physics: ``f``'s first evaluations are checked for shape,
 type and (for the symplectic methods) ``dx/dt = v``; states are checked in blocks of steps
@@ -177,9 +176,10 @@ def integrate(
         Start and end time (s), ``t1 > t0``.
     dt : float
         Step (s), finite, ``0 < dt <= t1 - t0``. The run ends exactly at ``t1``: when
-        ``t1 - t0`` is a whole number ``n`` of steps to round-off (within ``1e-12`` relative),
-        it takes ``n`` steps of ``dt``; otherwise ``ceil((t1 - t0) / dt)`` steps, of which
-        only the last is shorter, ``t1 - t[-2]``.
+        ``t1 - t0`` is a whole number ``n`` of steps (to ``tol``, 8 units in the last place
+        of the times) it takes ``n`` steps of ``dt``; otherwise the fewest steps of ``dt``
+        and a last, shorter one, ``t1 - t[-2]``. Every interval of ``t`` is within ``tol``
+        of the step taken over it (:mod:`course_lib.timegrid` states the rule).
     method : str
         One of :data:`METHODS`.
     jac : callable, ndarray or scipy.sparse matrix, optional

@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 import course_lib as cl
 from course_lib import fields, forces, implicit
 from course_lib.systems import NewtonianSystem, stack_state
+from course_lib.timegrid import grid_tolerance, time_grid
 
 # --- f that reuses its output buffer, or scribbles over its argument ---------------------
 
@@ -126,21 +127,80 @@ def test_implicit_step_is_the_same_in_any_units(exponent, method):
 # --- the time grid lands exactly on t1 ------------------------------------------------------
 
 
-@settings(max_examples=80, deadline=None)
-@given(t0=st.floats(-1e3, 1e3), span=st.floats(1e-3, 1e3), steps=st.floats(1.0, 2000.0))
-def test_grid_lands_on_t1_and_only_the_last_step_is_shorter(t0, span, steps):
-    dt = span / steps
+def check_grid(t0, t1, dt):
+    """The guarantees stated in course_lib.timegrid's docstring, for one grid; (n, last)."""
+    t, last = time_grid((t0, t1), dt)
+    tol = grid_tolerance(t0, t1)
+    n = len(t) - 1
+    assert t[0] == t0 and t[-1] == t1 and np.all(np.diff(t) > 0)
+    np.testing.assert_array_equal(t[1:-1], t0 + dt * np.arange(1, n))  # as floats compute it
+    taken = np.full(n, dt)
+    taken[-1] = last
+    assert last == dt or (last == t1 - t[-2] and 0 < last < dt - tol)
+    assert np.all(np.abs(np.diff(t) - taken) <= tol)    # so every interval <= dt + tol
+    assert n == 1 or t1 - t[-3] > dt + tol             # and no fewer steps would do
+    return n, last
+
+
+def grid_or_refusal(t0, t1, dt):
+    """check_grid, or the refusal that the rule promises for this (t0, t1, dt)."""
+    tol = grid_tolerance(t0, t1)
+    try:
+        return check_grid(t0, t1, dt)
+    except ValueError as err:
+        if "float resolution" in str(err):
+            assert dt <= 2 * tol
+        else:
+            assert "longer than the span" in str(err) and t1 - t0 < dt + tol
+        return None
+
+
+times = st.one_of(st.floats(-1e3, 1e3), st.floats(-1e15, 1e15),
+                  st.sampled_from([0.0, 64.0, -64.0, 1e-300, 2.0**40, 1e9 + 0.1]))
+steps = st.floats(1e-6, 1e3)
+
+
+@settings(max_examples=150, deadline=None)
+@given(t0=times, span=st.floats(1e-6, 1e6), dt=steps)
+def test_any_grid_keeps_the_stated_bound(t0, span, dt):
     t1 = t0 + span
-    assume(t1 > t0 and dt <= t1 - t0)
+    assume(t1 > t0 and span / dt <= 1e5)    # (max_steps is tested in test_hardening_runs)
+    got = grid_or_refusal(t0, t1, dt)
+    if got is not None:
+        n, _ = got
+        tol = grid_tolerance(t0, t1)
+        assert math.floor((t1 - t0 - tol) / dt) <= n <= math.ceil((t1 - t0 + tol) / dt)
+
+
+@settings(max_examples=150, deadline=None)
+@given(t0=times, dt=steps, n=st.integers(1, 5000))
+def test_spans_made_of_n_steps_take_n_steps_of_dt(t0, dt, n):
+    """Both ways of writing 'n steps' give n steps of dt: t1 = t0 + n dt, dt = span / n."""
+    t1 = t0 + n * dt
+    assume(t1 > t0 and dt > 2 * grid_tolerance(t0, t1))
+    assert check_grid(t0, t1, dt) == (n, dt)
+    other = (t1 - t0) / n
+    assume(other > 2 * grid_tolerance(t0, t1))
+    assert check_grid(t0, t1, other) == (n, other)
+
+
+@pytest.mark.parametrize("t0,t1,dt,n,last", [
+    (0.0, 1.0, 0.1, 10, 0.1), (0.0, 0.3, 0.1, 3, 0.1), (64.0, 65.0, 1e-3, 1000, 1e-3),
+    (64.0, 64.0 + 0.1 * 7, 0.1, 7, 0.1), (-64.0, 64.0, 0.5, 256, 0.5),
+    (1e9, 1e9 + 1.0, 0.25, 4, 0.25), (1e-300, 1.0, 0.125, 8, 0.125),
+    # not a whole number of steps: the last step is what is left to t1
+    (0.0, 1.0, 0.3, 4, 0.1), (64.0, 64.25, 0.1, 3, 0.05), (1e9, 1e9 + 1.0, 0.3, 4, 0.1),
+    (0.0, 1.0, 1.0 - 1e-9, 2, 1e-9), (-1e-300, 1e-300, 1.5e-300, 2, 0.5e-300),
+])
+def test_hand_picked_grids(t0, t1, dt, n, last):
+    got_n, got_last = check_grid(t0, t1, dt)
+    assert got_n == n
+    # the only rounding in `last` is that of the times t0 + k dt: up to tol
+    assert abs(got_last - last) <= grid_tolerance(t0, t1)
     traj = cl.integrate(lambda t, y: np.ones(1), [0.0], (t0, t1), dt)
-    assert traj.t[0] == t0 and traj.t[-1] == t1
-    h = np.diff(traj.t)
-    assert np.all(h > 0) and h[-1] <= dt * (1 + 1e-9)
-    np.testing.assert_allclose(traj.t[:-1], t0 + dt * np.arange(traj.n_steps), rtol=0,
-                               atol=1e-12 * (abs(t0) + span))
-    assert traj.n_steps in (math.floor((t1 - t0) / dt + 1e-9), math.ceil((t1 - t0) / dt - 1e-9))
-    # the steps taken add up to the span (forward Euler on y' = 1 sums them)
-    assert traj.y[-1, 0] == pytest.approx(t1 - t0, rel=1e-12)
+    np.testing.assert_array_equal(traj.t, time_grid((t0, t1), dt)[0])
+    # forward Euler on y' = 1 adds up the steps taken: the span, to tol plus n roundings
+    assert abs(traj.y[-1, 0] - (t1 - t0)) <= grid_tolerance(t0, t1) + n * 2**-53 * (t1 - t0)
 
 
 @pytest.mark.parametrize("n,dt", [(3, 0.1), (7, 0.3), (1000, 1e-3), (10, 2 * np.pi / 10)])
