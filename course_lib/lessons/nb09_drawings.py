@@ -62,9 +62,8 @@ def draw_fountain(snap: dict, restitution: float):
     fig, ax = plt.subplots(figsize=(8.5, 3.6), constrained_layout=True)
     sc = ax.scatter(snap["x"][:, 0], snap["x"][:, 1], c=snap["age"], s=4, cmap="viridis",
                     linewidths=0)
-    fig.colorbar(sc, ax=ax, label="age (s)", pad=0.01, shrink=0.75)
     ax.axhline(0.0, color="0.3", lw=1)
-    fig.colorbar(sc, ax=ax, label="age (s)", pad=0.01)
+    fig.colorbar(sc, ax=ax, label="age (s)", pad=0.01, shrink=0.75)
     ax.set(xlabel="x (m)", ylabel="height y (m)", aspect="equal", ylim=(-0.1, 2.2),
            title=f"fountain: {len(snap['age'])} particles, ground restitution {restitution:g}")
     return fig

@@ -119,8 +119,8 @@ def advect_update(field: Callable) -> Callable:
 
 
 def fountain(count: float = 40.0, lifetime: float = 2.5) -> Emitter:
-    """A fountain: a disc nozzle of 5 cm on the ground shooting up at 6 ± 0.5 m/s
-    within 12° of the vertical."""
+    """A fountain: a disc nozzle of radius 5 cm on the ground shooting ``count`` ± 10 drops
+    per frame up at 6 ± 0.5 m/s within 12° of the vertical, lifetimes ``lifetime`` ± 0.5 s."""
     return Emitter(count=count, count_variance=10.0, shape="disc", radius=0.05,
                    speed=6.0, speed_variance=0.5, direction=(0.0, 1.0, 0.0),
                    spread=np.radians(12.0), lifetime=lifetime, lifetime_variance=0.5)
@@ -133,8 +133,9 @@ def parabola_offset(age, dt: float = DT) -> np.ndarray:
 
 
 def fire(count: float = 60.0, temperature: float = 1600.0) -> Emitter:
-    """A camp fire: a 0.3 m disc emitting hot gas upward (0.5 ± 0.3 m/s) at ``temperature``
-    (K), lifetimes 2.4 ± 0.8 s."""
+    """A camp fire: a disc of radius 0.3 m emitting ``count`` ± 15 particles of hot gas per
+    frame upward (0.5 ± 0.3 m/s within 20° of the vertical) at ``temperature`` (K),
+    lifetimes 2.4 ± 0.8 s."""
     return Emitter(count=count, count_variance=15.0, shape="disc", radius=0.3, speed=0.5,
                    speed_variance=0.3, spread=np.radians(20.0), lifetime=2.4,
                    lifetime_variance=0.8, attributes={"temperature": (temperature, 0.0)})
@@ -149,8 +150,9 @@ def genesis(front_speed: float = 1.5, density: float = 6.0, start: float = 0.2) 
     """The wall of fire of the Genesis effect: an emitter on a ring of radius
     ``R(t) = start + front_speed · t`` (m) emitting ``density`` particles per metre of
     ring per frame, so its mean count ``density · 2πR(t)`` grows with time. Particles
-    burst up within 25° of the vertical and slightly outwards. Returns ``emit(ps, t, rng)``
-    with the emitter as its ``.emitter`` attribute and ``.mean_count(t)``."""
+    burst up within 20° of the vertical at 5 ± 1.5 m/s, and 0.5 m/s outwards; lifetimes
+    1.2 ± 0.4 s. Returns ``emit(ps, t, rng)`` with the emitter as its ``.emitter``
+    attribute and ``.mean_count(t)``."""
     em = Emitter(count=0.0, shape="ring", speed=5.0, speed_variance=1.5,
                  spread=np.radians(20.0), radial=0.5, lifetime=1.2, lifetime_variance=0.4)
 
