@@ -35,6 +35,7 @@ class Params:
     implicit pressure solve stops at (IISPH: 1e-3 is 0.1 %). omega : its relaxation.
     max_iterations : its cap. wall_pressure : ``"extrapolated"`` (Adami et al. 2012)
     or ``"mirrored"`` (a wall particle takes the fluid particle's pressure).
+    speed_limit : a run whose fastest particle passes it (m/s) has blown up and stops.
     """
 
     spacing: float
@@ -51,10 +52,11 @@ class Params:
     omega: float = 0.5
     max_iterations: int = 500
     wall_pressure: str = "extrapolated"
+    speed_limit: float = np.inf
 
     def __post_init__(self):
         check_name(self.kernel)
-        for name in ("spacing", "rho0", "support_ratio", "cfl", "max_dt", "tolerance"):
+        for name in ("spacing", "rho0", "support_ratio", "cfl", "max_dt", "tolerance", "speed_limit"):
             value = getattr(self, name)
             if not (isinstance(value, numbers.Real) and value > 0 and not np.isnan(value)):
                 raise ValueError(f"{name} must be a positive number, got {value!r}")

@@ -56,15 +56,18 @@ def liquid(spacing: float, depth: float, **changes) -> Params:
     """Water-like parameters for a liquid ``depth`` m deep on a lattice of side ``spacing``.
 
     The fastest flow expected is a fall from the full depth, ``U = √(2 g depth)``; the
-    speed of sound (WCSPH) is ``10 U`` (Mach 0.1). The artificial viscosity
+    speed of sound (WCSPH) is ``10 U`` (Mach 0.1), and a particle ten times faster than
+    ``U`` means the run has blown up. The artificial viscosity
     ``ν = 0.05 √(g depth) Δx`` vanishes as the lattice is refined; the walls are no-slip
     with the same ν. Gravity waves travel at ``√(g depth)``, so no step exceeds
-    ``λ Δx / √(g depth)``. ``changes`` override any of these.
+    ``λ Δx / √(g depth)`` (λ the ``cfl``, 0.4 by default). ``changes`` override any of these.
     """
     wave = np.sqrt(G * depth)
     nu = 0.05 * wave * spacing
-    base = {"spacing": spacing, "sound_speed": 10.0 * np.sqrt(2.0 * G * depth), "viscosity": nu,
-            "wall_viscosity": nu, "max_dt": 0.4 * spacing / wave}
+    fall = np.sqrt(2.0 * G * depth)
+    base = {"spacing": spacing, "sound_speed": 10.0 * fall, "speed_limit": 10.0 * fall, "viscosity": nu,
+            "wall_viscosity": nu,
+            "max_dt": changes.get("cfl", 0.4) * spacing / wave}
     return Params(**{**base, **changes})
 
 

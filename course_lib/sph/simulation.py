@@ -6,7 +6,8 @@
 CFL step unless given one. It records, for every step, the step, the solver's sweeps, the
 number of pairs and the density error at the start of the step (mean and largest
 ``max(ρ/ρ₀ - 1, 0)``: the compression; a free surface's lower density is not an error).
-A run that turns non-finite stops with :attr:`Simulation.message` saying where.
+A run that turns non-finite, or whose fastest particle passes ``params.speed_limit``,
+stops with :attr:`Simulation.message` saying where.
 Core module.
 """
 
@@ -88,10 +89,13 @@ class Simulation:
                 x, v, info = iisph.step(self.x, self.v, self.params, self.wall, dt, dt_max, self.p)
             else:
                 x, v, info = wcsph.step(self.x, self.v, self.params, self.wall, dt, dt_max)
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+        speed = np.sqrt(np.max(np.einsum("nk,nk->n", v, v), initial=0.0))
+        if not (np.all(np.isfinite(x)) and np.isfinite(speed)) or speed > self.params.speed_limit:
             self.stable = False
-            self.message = (f"unstable at step {self.steps + 1}, t = {self.t:.4g} s: "
-                            "the state turned non-finite")
+            what = ("the state turned non-finite" if not np.isfinite(speed) else
+                    f"a particle reached {speed:.3g} m/s, past the speed limit "
+                    f"{self.params.speed_limit:.3g} m/s")
+            self.message = f"unstable at step {self.steps + 1}, t = {self.t:.4g} s: {what}"
             return {}
         self.x, self.v, self.p = x, v, info["p"]
         self.t += info["dt"]
@@ -104,8 +108,8 @@ class Simulation:
 
     def run(self, t_end: float, frame_dt: float | None = None, max_steps: int = 1_000_000,
             on_step=None) -> Frames:
-        """Step until ``t_end`` (s). With ``frame_dt`` (s) the steps are shortened to land on
-        every frame time and the state is saved there (and at the start). ``on_step(sim)``
+        """Step until ``t_end`` (s). With ``frame_dt`` (s) the steps before each frame time
+        are made equal so as to land on it, and the state is saved there (and at the start). ``on_step(sim)``
         is called after each step. Stops early if the run turns unstable."""
         if not (np.isfinite(t_end) and t_end > self.t):
             raise ValueError(f"t_end must be a time after t = {self.t} s, got {t_end!r}")
@@ -116,13 +120,25 @@ class Simulation:
         for _ in range(max_steps):
             if self.t >= t_end * (1 - 1e-12) or not self.stable:
                 break
-            self.step(dt_max=min(t_end, next_frame) - self.t)
+            # land on the next frame with equal steps: a sliver of a step would leave IISPH
+            # to undo a whole step's compression in it, a velocity kick of Δρ/ρ Δx/Δt
+            remaining = min(t_end, next_frame) - self.t
+            parts = max(1, int(np.ceil(remaining / self._cfl() * (1 - 1e-9))))
+            self.step(dt_max=remaining / parts)
             if self.stable and self.t >= next_frame * (1 - 1e-12):
                 frames.append(self._frame())
                 next_frame += frame_dt
             if on_step is not None:
                 on_step(self)
         return Frames(*(np.array(a) for a in zip(*frames, strict=True)))
+
+    def _cfl(self) -> float:
+        """The method's step for the present speeds, with gravity as the acceleration bound."""
+        v_max = float(np.sqrt(np.max(np.einsum("nk,nk->n", self.v, self.v), initial=0.0)))
+        g = float(np.linalg.norm(self.params.gravity))
+        if self.method == "iisph":
+            return iisph.cfl_step(self.params, v_max, g)
+        return wcsph.cfl_step(self.params, v_max, g)
 
     def _frame(self):
         return (self.t, self.x.copy(), np.linalg.norm(self.v, axis=1), self.p.copy())
