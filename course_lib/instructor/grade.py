@@ -3,11 +3,13 @@
 :func:`grade_class` reads the kit's assignments (:mod:`.kit`), the roster and each
 student's files (:mod:`.submissions`), scans each notebook without running it
 (:mod:`.scan`), runs it in a sandboxed worker (:mod:`.sandbox`) and judges the recorded
-values with the kit's checks (:mod:`.verdicts`). Submissions are graded concurrently
-(one worker process each, ``jobs`` at a time); rows are appended to the CSV as each
-submission finishes, so an interrupted run leaves a valid gradebook of what was graded,
-and the file is rewritten in a stable order at the end. Then come the feedback files and
-the class report (:mod:`.feedback`, :mod:`.report`).
+values with the kit's checks (:mod:`.verdicts`). Submissions are graded concurrently:
+here (one worker process each, ``jobs`` at a time) or as tasks on a Dask cluster
+(:mod:`.cluster`). This process alone writes the gradebook: rows are appended to the CSV
+and to the journal (:mod:`.journal`) as each submission finishes, so an interrupted run
+leaves a valid gradebook of what was graded and resumes where it stopped; the file is
+rewritten in a stable order at the end, whatever the order of completion. Then come the
+feedback files and the class report (:mod:`.feedback`, :mod:`.report`).
 
 Nothing here raises because of a submission: any failure becomes rows with a status.
 Imports: the standard library, tqdm, and this package's modules.
@@ -162,16 +164,50 @@ def _assignments(roster: list[Student], kit: dict[str, Assignment],
     return chosen
 
 
+def _local(tasks: list[Task], runtime: Runtime, kit, limits: Limits, jobs: int | None):
+    """``(index, rows)`` of each task as it finishes, graded by a pool of threads here
+    (each thread drives one sandboxed worker process)."""
+    with ThreadPoolExecutor(max_workers=jobs or os.cpu_count() or 1) as pool:
+        futures = {pool.submit(_call_grade_task, t, runtime, kit, limits): i for i, t in enumerate(tasks)}
+        try:
+            for future in as_completed(futures):
+                yield futures[future], future.result()
+        finally:
+            for f in futures:
+                f.cancel()
+
+
+def _call_grade_task(task, runtime, kit, limits):
+    return grade_task(task, runtime, kit, limits)  # looked up at call time (tests replace it)
+
+
+def _header(kit, expected: list[Assignment], limits: Limits) -> dict:
+    from dataclasses import asdict
+
+    from .journal import library_fingerprint
+
+    return {"library": library_fingerprint(), "limits": asdict(limits),
+            "assignments": {a.name: [[e.name, e.check, e.points] for e in a.exercises] for a in expected},
+            "ids": {a.name: sorted(a.cell_ids) for a in expected}}
+
+
 def grade_class(paths: list[Path], out_csv: Path, *, solutions: Path | None = None,
                 assignments: list[str] | None = None, limits: Limits | None = None,
                 jobs: int | None = None, feedback_dir: Path | None = None,
                 report: Path | None = None, progress: bool = True,
-                only: list[str] | None = None) -> list[Row]:
+                only: list[str] | None = None, scheduler=None, resume: bool = True) -> list[Row]:
     """Grade every student under ``paths``; write the CSV, feedback files and class report.
 
-    ``only`` restricts the run to these students (to regrade a few). Returns the rows
-    (one per student, assignment and exercise), sorted.
+    ``only`` restricts the run to these students (to regrade a few). ``scheduler`` (the
+    address of a ``dask.distributed`` scheduler, or a ``distributed.Client``) grades each
+    submission as one task on that cluster (:mod:`.cluster`); without it, ``jobs`` threads
+    here each drive one sandboxed worker. Either way this process alone writes the
+    gradebook, and the journal (:mod:`.journal`) lets an interrupted run resume: with
+    ``resume`` (the default) submissions an earlier interrupted run graded are not graded
+    again. Returns the rows (one per student, assignment and exercise), sorted.
     """
+    from .journal import Journal, file_digest
+
     kit = load_kit(solutions or default_solutions())
     roster = students([Path(p) for p in paths])
     if only:
@@ -184,39 +220,62 @@ def grade_class(paths: list[Path], out_csv: Path, *, solutions: Path | None = No
     limits = limits or Limits()
     out_csv = Path(out_csv)
     out_csv.parent.mkdir(parents=True, exist_ok=True)
-    rows: list[Row] = []
-    runtime = Runtime()
-    if not runtime.landlock:
-        warnings.warn("this kernel has no Landlock: student code runs with the resource limits but can "
-                      "read and write any file the grader's user can (see docs/INSTRUCTORS.md)", stacklevel=2)
+    journal = Journal(out_csv, _header(kit, expected, limits))
+    earlier = journal.load() if resume else {}
+    digests = [file_digest(t.path, t.note) for t in tasks]
+    kept, todo = [], []
+    for i, t in enumerate(tasks):
+        key = (t.student, t.assignment.name)
+        if key in earlier and earlier[key][0] == digests[i]:
+            kept.append((key, digests[i], earlier[key][1]))
+        else:
+            todo.append(i)
+    journal.start(kept)
+    rows: list[Row] = [r for _, _, rs in kept for r in rs]
     bar = None
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=len(tasks), unit="notebook", desc="grading", file=sys.stderr)
+        bar = tqdm(total=len(tasks), initial=len(kept), unit="notebook", desc="grading", file=sys.stderr)
+    runtime = results = None
     try:
         with out_csv.open("w", newline="") as fh:
             writer = csv.DictWriter(fh, fieldnames=FIELDS)
             writer.writeheader()
+            writer.writerows(r.csv() for r in rows)
             fh.flush()
-            with ThreadPoolExecutor(max_workers=jobs or os.cpu_count() or 1) as pool:
-                futures = [pool.submit(grade_task, t, runtime, kit, limits) for t in tasks]
-                try:
-                    for future in as_completed(futures):
-                        done = future.result()
-                        rows += done
-                        writer.writerows(r.csv() for r in done)
-                        fh.flush()
-                        if bar:
-                            bar.update()
-                except BaseException:
-                    for f in futures:
-                        f.cancel()
-                    raise
+            pending = [tasks[i] for i in todo]
+            if scheduler is not None:
+                from .cluster import grade_on_cluster
+
+                results = grade_on_cluster(pending, kit, limits, scheduler)
+            else:
+                runtime = Runtime()
+                if not runtime.landlock:
+                    warnings.warn("this kernel has no Landlock: student code runs with the resource limits "
+                                  "but can read and write any file the grader's user can (see "
+                                  "docs/INSTRUCTORS.md)", stacklevel=2)
+                results = _local(pending, runtime, kit, limits, jobs)
+            seen: set[int] = set()
+            for j, done in results:
+                if j in seen:  # a task the cluster ran twice: its first result stands
+                    continue
+                seen.add(j)
+                task = pending[j]
+                journal.append((task.student, task.assignment.name), digests[todo[j]], done)
+                rows += done
+                writer.writerows(r.csv() for r in done)
+                fh.flush()
+                if bar:
+                    bar.update()
     finally:
+        if results is not None:
+            results.close()  # cancels what has not started (on an interruption)
         if bar:
             bar.close()
-        runtime.cleanup()
+        journal.close()
+        if runtime is not None:
+            runtime.cleanup()
     order = {a.name: i for i, a in enumerate(expected)}
     ex_order = {(a.name, e.name): i for a in expected for i, e in enumerate(a.exercises)}
     rows.sort(key=lambda r: (r.student, order[r.assignment], ex_order[(r.assignment, r.exercise)]))
@@ -234,6 +293,7 @@ def grade_class(paths: list[Path], out_csv: Path, *, solutions: Path | None = No
         from .report import write_report
 
         write_report(rows, Path(report), feedback_dir=feedback_dir)
+    journal.remove()
     return rows
 
 

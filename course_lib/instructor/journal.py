@@ -1,0 +1,170 @@
+"""The grading journal: what a run has graded so far, so that an interrupted run resumes.
+
+``<gradebook>.journal`` beside the gradebook holds JSON lines: the first says what the
+run is (a fingerprint of the kit, the library, the limits and the assignments); each
+other line holds one submission's rows *with* the details its feedback needs, written
+(and flushed to disk) by the grading client as soon as that submission is graded. Running
+the same command again reads the journal, keeps every submission whose file is unchanged
+(same SHA-256) and grades only the others; a complete run deletes it. A line cut short by
+a crash is ignored, and a journal of another kit, library or set of limits is not used.
+
+Nothing here is pickled: rows travel as JSON and are rebuilt field by field.
+Imports: the standard library and this package's data classes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import importlib
+import json
+import os
+import sys
+from pathlib import Path
+
+from .sandbox import Run
+from .submissions import Cell, Notebook
+from .verdicts import Row
+
+VERSION = 1
+
+
+def library_files(names: list[str] | None = None) -> dict[str, str]:
+    """SHA-256 of the source file of each course_lib module loaded in this process (or of
+    the modules ``names``, imported first): the code that grades, checks and references
+    included. Two processes grade alike only if these agree."""
+    if names is None:
+        names = [n for n in list(sys.modules) if n == "course_lib" or n.startswith("course_lib.")]
+    out = {}
+    for name in sorted(names):
+        module = sys.modules.get(name) or importlib.import_module(name)
+        path = getattr(module, "__file__", None)
+        if path:
+            out[name] = hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    return out
+
+
+def library_fingerprint(files: dict[str, str] | None = None) -> str:
+    """One digest of :func:`library_files`."""
+    files = library_files() if files is None else files
+    return hashlib.sha256(json.dumps(files, sort_keys=True).encode()).hexdigest()
+
+
+def file_digest(path: Path | None, note: str = "") -> str:
+    """What identifies a submission: its bytes (or, with no file, the grader's note)."""
+    if path is None:
+        return "none:" + hashlib.sha256(note.encode()).hexdigest()
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError as exc:
+        return f"unreadable:{exc.errno}"
+
+
+def lean_run(run: Run) -> Run:
+    """``run`` without the recorded calls (the verdicts are made; feedback never reads them)."""
+    exercises = {name: {k: v for k, v in record.items() if k != "calls"}
+                 for name, record in run.exercises.items()}
+    return dataclasses.replace(run, exercises=exercises)
+
+
+def _plain(value):
+    """``value`` as JSON-ready data (data classes become tagged dicts)."""
+    if isinstance(value, Run):
+        data = dataclasses.asdict(lean_run(value))
+        data["cells"] = {str(k): v for k, v in value.cells.items()}
+        return {"__run__": data}
+    if isinstance(value, Notebook):
+        return {"__notebook__": {"note": value.note, "cells": [dataclasses.asdict(c) for c in value.cells]}}
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if value is None or isinstance(value, (str, int, float, bool)):
+        return value
+    return str(value)
+
+
+def _rebuilt(value):
+    if isinstance(value, dict):
+        if "__run__" in value:
+            data = dict(value["__run__"])
+            data["cells"] = {int(k): v for k, v in data["cells"].items()}
+            return Run(**data)
+        if "__notebook__" in value:
+            data = value["__notebook__"]
+            return Notebook([Cell(**c) for c in data["cells"]], data["note"])
+        return {k: _rebuilt(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_rebuilt(v) for v in value]
+    return value
+
+
+def row_to_json(row: Row) -> dict:
+    return {f.name: _plain(getattr(row, f.name)) for f in dataclasses.fields(row)}
+
+
+def row_from_json(data: dict) -> Row:
+    return Row(**{k: _rebuilt(v) for k, v in data.items()})
+
+
+class Journal:
+    """``<out>.journal``: the header and one line per graded submission (see the module)."""
+
+    def __init__(self, out_csv: Path, header: dict):
+        self.path = Path(out_csv).with_name(Path(out_csv).name + ".journal")
+        self.header = {"journal": VERSION, **header}
+        self._fh = None
+
+    def load(self) -> dict[tuple[str, str], tuple[str, list[Row]]]:
+        """``{(student, assignment): (digest, rows)}`` of an earlier run of the same kind;
+        empty if there is none, or if it was made with another kit, library or limits."""
+        try:
+            lines = self.path.read_bytes().split(b"\n")
+        except OSError:
+            return {}
+        try:
+            if json.loads(lines[0]) != self.header:
+                return {}
+        except ValueError:
+            return {}
+        done = {}
+        for line in lines[1:]:
+            try:
+                entry = json.loads(line)
+                rows = [row_from_json(r) for r in entry["rows"]]
+            except (ValueError, KeyError, TypeError):
+                continue  # the last line of a run killed while writing it
+            done[(entry["student"], entry["assignment"])] = (entry["digest"], rows)
+        return done
+
+    def start(self, kept: list[tuple[tuple[str, str], str, list[Row]]]) -> None:
+        """Begin a journal holding the header and the submissions ``kept`` from before."""
+        tmp = self.path.with_name(self.path.name + ".tmp")
+        with tmp.open("w", encoding="utf-8") as fh:
+            fh.write(json.dumps(self.header) + "\n")
+            for key, digest, rows in kept:
+                fh.write(self._line(key, digest, rows))
+        os.replace(tmp, self.path)
+        self._fh = self.path.open("a", encoding="utf-8")
+
+    @staticmethod
+    def _line(key: tuple[str, str], digest: str, rows: list[Row]) -> str:
+        entry = {"student": key[0], "assignment": key[1], "digest": digest,
+                 "rows": [row_to_json(r) for r in rows]}
+        return json.dumps(entry, ensure_ascii=False) + "\n"
+
+    def append(self, key: tuple[str, str], digest: str, rows: list[Row]) -> None:
+        """Record one graded submission, on disk before returning."""
+        self._fh.write(self._line(key, digest, rows))
+        self._fh.flush()
+        os.fsync(self._fh.fileno())
+
+    def close(self) -> None:
+        if self._fh is not None:
+            self._fh.close()
+            self._fh = None
+
+    def remove(self) -> None:
+        """The run is complete: nothing is left to resume."""
+        self.close()
+        self.path.unlink(missing_ok=True)
