@@ -67,4 +67,9 @@ def test_voila_listens_on_localhost_with_a_token():
     assert "--Voila.ip=127.0.0.1" in cmd and "--token=secret" in cmd and "--no-browser" in cmd
     env = present.voila_env()
     assert env["JUPYTER_CONFIG_PATH"].split(":")[0] == str(ROOT / "jupyter_config")
+    # the course's page template: Voila's lab page without its CDN links
+    assert "--template=course" in cmd
+    assert env["JUPYTER_PATH"].split(":")[0] == str(ROOT / "jupyter_data")
+    page = (ROOT / "jupyter_data" / "voila" / "templates" / "course" / "index.html.j2").read_text()
+    assert "extends 'lab/index.html.j2'" in page and "fontawesome-free@^5/css/all.min.css" in page
     assert (ROOT / "jupyter_config" / "voila.py").exists()

@@ -150,14 +150,17 @@ def voila_command(notebook: Path, port: int, token: str, *, browser: bool = Fals
     """The Voila command line: localhost, a token, the light theme."""
     voila = shutil.which("voila", path=str(Path(sys.executable).parent)) or "voila"
     return [voila, str(notebook), f"--port={port}", "--Voila.ip=127.0.0.1", f"--token={token}",
-            "--theme=light", *([] if browser else ["--no-browser"])]
+            "--theme=light", "--template=course", *([] if browser else ["--no-browser"])]
 
 
 def voila_env() -> dict:
-    """The environment for Voila: the course's settings (jupyter_config/voila.py) first."""
-    extra = os.environ.get("JUPYTER_CONFIG_PATH")
-    return {**os.environ, "JUPYTER_CONFIG_PATH": os.pathsep.join(
-        filter(None, [str(ROOT / "jupyter_config"), extra]))}
+    """The environment for Voila: the course's settings (jupyter_config/voila.py) and its
+    page template (jupyter_data/voila/templates/course: Voila's "lab" page without the CDN
+    stylesheets and the Mermaid loader) first."""
+    config, data = os.environ.get("JUPYTER_CONFIG_PATH"), os.environ.get("JUPYTER_PATH")
+    return {**os.environ,
+            "JUPYTER_CONFIG_PATH": os.pathsep.join(filter(None, [str(ROOT / "jupyter_config"), config])),
+            "JUPYTER_PATH": os.pathsep.join(filter(None, [str(ROOT / "jupyter_data"), data]))}
 
 
 def main(argv=None) -> int:

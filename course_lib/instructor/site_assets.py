@@ -1,6 +1,6 @@
 """Vendored JavaScript and fonts for the static site: installed by npm, copied into ``_static``.
 
-``vendor/package.json`` and ``vendor/package-lock.json`` (committed) pin the three npm
+``vendor/package.json`` and ``vendor/package-lock.json`` (committed) pin the npm
 packages the pages need; :func:`install` runs ``npm ci`` into ``vendor/node_modules``
 (git-ignored) when it is missing or older than the lock, and :func:`copy_assets` copies
 the files a page loads into the site's ``_static`` folder:
@@ -8,13 +8,21 @@ the files a page loads into the site's ``_static`` folder:
 - ``require.js`` (npm ``requirejs``): the AMD loader the widget manager needs;
 - ``html-manager/embed-amd.js`` and its fonts (npm ``@jupyter-widgets/html-manager``):
   renders saved widget state;
-- ``mathjax/tex-chtml-full.js`` and its fonts (npm ``mathjax`` 3): renders the math.
+- ``mathjax/tex-chtml-full.js`` and its fonts (npm ``mathjax`` 3): renders the math;
+- ``sre/``: what MathJax's accessibility features (speech, Braille, the explorer) load once a
+  reader turns them on: the Speech Rule Engine's locale maps, which the ``mathjax`` package
+  ships in ``es5/sre/mathmaps`` (copied as JSON, and as small scripts ``sre/maps/<locale>.js``
+  because a page opened from disk may not fetch JSON: Chromium refuses XHR on ``file://``),
+  and ``wgxpath.install.js`` (npm ``wicked-good-xpath``, for browsers without XPath). Left to
+  its defaults the engine would fetch both from a CDN; :data:`SRE_FEATURE_JS`, run before
+  MathJax, points it at these copies.
 
 Nothing is fetched when a page is viewed. Imports only the standard library.
 """
 
 from __future__ import annotations
 
+import json
 import shutil
 import subprocess
 from pathlib import Path
@@ -29,7 +37,47 @@ MATHJAX_JS = "_static/mathjax/tex-chtml-full.js"
 
 # MathJax: the combined TeX + CommonHTML component and what it may load at run time.
 _MATHJAX_PARTS = ("tex-chtml-full.js", "output/chtml/fonts/woff-v2", "ui", "a11y",
-                  "input/tex/extensions", "adaptors")
+                  "input/tex/extensions", "input/mml.js", "input/mml", "adaptors", "sre")
+
+#: Run before MathJax loads: the Speech Rule Engine reads ``window.SREfeature`` for where its
+#: locale maps (``json``) and XPath polyfill (``xpath``) live, and for a ``custom`` loader.
+#: MathJax's a11y/sre component replaces that object and sets its own loader (a fetch of the
+#: JSON), so the object is kept behind an accessor: our paths always win, and from ``file://``
+#: a locale is read from its script wrapper instead of fetched.
+SRE_FEATURE_JS = r"""(function () {
+  var base = new URL('_static/sre/', document.baseURI).href, feature;
+  function fromScript(locale) {
+    return new Promise(function (ok, fail) {
+      var maps = window.courseSreMaps || {};
+      if (maps[locale]) { ok(maps[locale]); return; }
+      var tag = document.createElement('script');
+      tag.src = base + 'maps/' + locale + '.js';
+      tag.onload = function () {
+        var m = (window.courseSreMaps || {})[locale];
+        if (m) { ok(m); } else { fail(new Error('no speech maps for ' + locale)); }
+      };
+      tag.onerror = function () { fail(new Error('no speech maps for ' + locale)); };
+      document.head.appendChild(tag);
+    });
+  }
+  function make(given) {
+    var theirs = given && given.custom, out = {};
+    for (var k in given || {}) { if (k !== 'custom') { out[k] = given[k]; } }
+    out.json = base + 'mathmaps';
+    out.xpath = base + 'wgxpath.install.js';
+    Object.defineProperty(out, 'custom', {enumerable: true, configurable: true,
+      get: function () {
+        return function (locale) {
+          return (location.protocol === 'file:' || !theirs) ? fromScript(locale) : theirs(locale);
+        };
+      },
+      set: function (fn) { theirs = fn; }});
+    return out;
+  }
+  feature = make({});
+  Object.defineProperty(window, 'SREfeature', {configurable: true,
+    get: function () { return feature; }, set: function (v) { feature = make(v); }});
+})();"""
 
 
 class AssetError(RuntimeError):
@@ -91,4 +139,13 @@ def copy_assets(static: Path, vendor: Path = VENDOR) -> list[Path]:
     mathjax = modules / "mathjax" / "es5"
     for part in _MATHJAX_PARTS:
         _copy(mathjax / part, static / "mathjax" / part)
-    return [static / "require.js", static / "html-manager", static / "mathjax"]
+    sre = static / "sre"
+    _copy(mathjax / "sre" / "mathmaps", sre / "mathmaps")
+    (sre / "maps").mkdir(parents=True, exist_ok=True)
+    for path in sorted((mathjax / "sre" / "mathmaps").glob("*.json")):
+        text = json.dumps(path.read_text(encoding="utf-8"))
+        (sre / "maps" / f"{path.stem}.js").write_text(
+            f"(window.courseSreMaps = window.courseSreMaps || {{}})[{json.dumps(path.stem)}] = {text};\n",
+            encoding="utf-8")
+    _copy(modules / "wicked-good-xpath" / "dist" / "wgxpath.install.js", sre / "wgxpath.install.js")
+    return [static / "require.js", static / "html-manager", static / "mathjax", sre]

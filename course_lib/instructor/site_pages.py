@@ -23,7 +23,7 @@ from pathlib import Path
 import nbformat
 
 from .notebooks import BEGIN, strip_solution
-from .site_assets import MATHJAX_JS, REQUIRE_JS, WIDGETS_JS
+from .site_assets import MATHJAX_JS, REQUIRE_JS, SRE_FEATURE_JS, WIDGETS_JS
 
 _TEMPLATE = r"""{%- extends 'lab/index.html.j2' -%}
 {%- block html_head_js_mathjax -%}
@@ -46,6 +46,7 @@ var hub = {Queue: function () {
 }};
 window.MathJax.Hub = hub;
 </script>
+<script>{{ resources.sre_feature_js }}</script>
 <script async id="MathJax-script" src="{{ resources.mathjax_url }}"></script>
 {%- endblock html_head_js_mathjax -%}
 {%- block html_head_js_mermaidjs -%}{%- endblock html_head_js_mermaidjs -%}
@@ -167,7 +168,7 @@ def notebook_page(nb: nbformat.NotebookNode, stem: str, nav: str) -> str:
     """The HTML page of an (already executed, already filtered) notebook."""
     body, _ = _exporter().from_notebook_node(
         nb, resources={"metadata": {"name": title_of(nb, stem)}, "course_nav": nav,
-                       "course_css": NAV_CSS})
+                       "course_css": NAV_CSS, "sre_feature_js": SRE_FEATURE_JS})
     # links between notebooks point at their pages
     return re.sub(r'href="(\./)?(\d\d_[A-Za-z0-9_]+)\.ipynb', r'href="\2.html', body)
 

@@ -50,6 +50,8 @@ def test_lecture_mode_shows_the_demo_and_it_answers(page, voila):
     unstable = labpage.wait_new_picture(scope, stable)
     assert unstable not in (pic, stable)
     assert page.errors == []
+    # the course's page template drops Voila's CDN stylesheets (Font Awesome) and Mermaid
+    assert page.blocked == [], f"lecture mode asked the network for {page.blocked}"
     text = log.read_text()
     for noise in ("without encryption", "websocket_ping_timeout", "is not trusted"):
         assert noise not in text, f"`make present` prints {noise!r}"
