@@ -10,8 +10,8 @@ picture per *frame* (1/30 s), but an explicit integrator must take steps shorter
   :class:`~course_lib.springs.SpringNetwork`) with symplectic Euler, written out as one
   short loop of whole-array operations (:func:`symplectic_euler_run`): the same numbers as
   :func:`~course_lib.integrators.integrate`, at a fraction of the cost per step;
-- :func:`static_shape` finds the equilibrium under gravity by Newton's method with the
-  stiffness matrix; :func:`chain_dt_max` measures the step limit;
+- :func:`static_shape` finds the resting shape under gravity, a minimum checked with the
+  stiffness matrix (:mod:`course_lib.statics`); :func:`chain_dt_max` measures the step limit;
 - :func:`hairstyle` roots curly strands on a spherical head, :func:`head_collision` keeps
   them outside it.
 
@@ -24,12 +24,12 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg import LinAlgError, cho_factor, cho_solve
 
 from .collisions import sphere
 from .forces import G_EARTH, constant_gravity, viscous_damping
-from .springs import SpringNetwork, max_frequency, stiffness_matrix
+from .springs import SpringNetwork, max_frequency
 from .stability import bisect_stable_dt
+from .statics import equilibrium
 from .strands import helix, strand_network
 from .systems import NewtonianSystem, sum_forces
 
@@ -200,67 +200,17 @@ def chain_dt_max(network: SpringNetwork, x0, mass=MASS, pinned=(0,), n_steps: in
 
 
 def static_shape(x0, network: SpringNetwork, mass=MASS, pinned=(0, 1), gravity=G_EARTH,
-                 rtol: float = 1e-9, max_iter: int = 300) -> np.ndarray:
-    """Equilibrium positions under gravity: a minimum of elastic + gravitational energy
-    reached from ``x0`` by Newton's method.
+                 axes=None, rtol: float = 1e-9, max_iter: int = 600) -> np.ndarray:
+    """Resting positions (m) under gravity: a *stable* minimum of elastic + gravitational
+    energy reached from ``x0`` (:func:`course_lib.statics.equilibrium`).
 
-    Each iteration solves ``K δx = F`` for the free particles, ``K`` the stiffness matrix
-    (the energy's Hessian) and ``F`` the net force (its negative gradient), by Cholesky.
-    Where ``K`` is not positive definite (compressed springs; a straight strand has no
-    stiffness across itself, a flat one none across its plane) the step uses ``K``
-    without the compressed springs' negative term plus a tiny multiple of the identity,
-    which keeps it downhill; close to the equilibrium it uses ``K`` with its eigenvalues
-    replaced by their absolute values instead ("saddle-free" Newton), which converges
-    fast. A backtracking line search keeps every step an improvement of the energy (or,
-    once the energy no longer resolves the change, of the net force). Stops when the net
-    force on the free particles is below ``rtol`` times their weight.
+    Newton's method in a trust region, which leaves saddle points along directions of
+    negative curvature; the result is checked with the stiffness matrix (no negative
+    eigenvalue on the free coordinates). ``axes=(0, 1)`` keeps the free particles in their
+    plane (a 2D strand). Raises ``RuntimeError`` when no stable minimum is found.
     """
-    x = np.array(x0, dtype=float)
-    n, dim = x.shape
-    m = np.broadcast_to(np.asarray(mass, dtype=float), (n,))[:, None]
-    g = np.asarray(gravity, dtype=float)
-    free = np.setdiff1d(np.arange(n), np.asarray(pinned, dtype=int))
-    dofs = (free[:, None] * dim + np.arange(dim)).ravel()
-    weight = float(np.sum(m[free]) * np.linalg.norm(g)) or 1.0
-
-    def energy(z):
-        return network.energy(z) - float(np.sum(m[:, 0] * (z @ g)))
-
-    def gradient(z):
-        return -(network.forces(z) + m * g)[free].ravel()
-
-    def newton_step(norm):
-        K = stiffness_matrix(network, x)[np.ix_(dofs, dofs)]
-        floor = 1e-9 * np.trace(K) / len(dofs)
-        try:
-            return -cho_solve(cho_factor(K), grad)
-        except LinAlgError:
-            pass
-        if norm < 1e-3 * weight:
-            lam, V = np.linalg.eigh(K)
-            return -(V @ ((V.T @ grad) / np.maximum(np.abs(lam), floor)))
-        K = stiffness_matrix(network, x, definite=True)[np.ix_(dofs, dofs)]
-        return -cho_solve(cho_factor(K + floor * np.eye(len(dofs))), grad)
-
-    E, grad = energy(x), gradient(x)
-    for _ in range(max_iter):
-        norm = np.linalg.norm(grad)
-        if norm < rtol * weight:
-            return x
-        step = newton_step(norm)
-        alpha = 1.0
-        while True:
-            trial = x.copy()
-            trial[free] += alpha * step.reshape(-1, dim)
-            E_t, g_t = energy(trial), gradient(trial)
-            if E_t <= E + 1e-4 * alpha * (grad @ step) or (
-                    E_t <= E + 1e-12 * abs(E) and np.linalg.norm(g_t) < norm):
-                break
-            alpha *= 0.5
-            if alpha < 1e-12:
-                raise RuntimeError("static_shape: the line search found no lower energy")
-        x, E, grad = trial, E_t, g_t
-    raise RuntimeError(f"static_shape did not converge in {max_iter} Newton iterations")
+    return equilibrium(x0, network, mass, pinned, gravity, axes=axes, rtol=rtol,
+                       max_iter=max_iter).x
 
 
 # --- several strands on a head ------------------------------------------------------------

@@ -45,7 +45,7 @@ def held_strand(k_bend: float = 0.0, zigzag: float = 0.0, **strand):
 @functools.lru_cache(maxsize=256)
 def _held_equilibrium(k_bend: float, zigzag: float) -> np.ndarray:
     x0, net = held_strand(k_bend, zigzag)
-    x = static_shape(x0, net)
+    x = static_shape(x0, net, axes=(0, 1))     # in its plane: the runs below stay planar
     x.setflags(write=False)
     return x
 
