@@ -1,4 +1,5 @@
-"""``python -m course_lib.instructor {student,execute,figures,grade,release,nbgrader}``."""
+"""``python -m course_lib.instructor COMMAND``: student, execute, figures, grade, release,
+nbgrader, synth-class, export, clips (``--help`` lists them)."""
 
 from __future__ import annotations
 
@@ -28,6 +29,36 @@ def _grade_parser(sub) -> None:
     p.add_argument("--student", nargs="+", action="extend", default=None,
                    help="grade only these students (folder names), e.g. to regrade")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="grade on this dask.distributed cluster (e.g. tcp://10.0.0.5:8786), one task "
+                        "per submission; without it, grading runs on this machine")
+    p.add_argument("--restart", action="store_true",
+                   help="grade everything again, ignoring what an interrupted run left to resume")
+
+
+def _more_parsers(sub) -> None:
+    p = sub.add_parser("synth-class", help="write a synthetic class (load tests): submissions, roster, "
+                                           "expected statuses")
+    p.add_argument("out", type=Path)
+    p.add_argument("--n", type=int, default=100, help="number of students")
+    p.add_argument("--assignment", nargs="+", action="extend", default=None,
+                   help="assignments each student hands in (default: 05_newtons_second_law)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--full", action="store_true", help="keep the notebooks' demonstration cells")
+    p = sub.add_parser("export", help="the gradebook in an LMS's import format (canvas, moodle, brightspace)")
+    p.add_argument("lms", choices=["canvas", "moodle", "brightspace"])
+    p.add_argument("gradebook", type=Path, nargs="?", default=Path("grades.csv"))
+    p.add_argument("--roster", type=Path, required=True, help="roster CSV (see docs/INSTRUCTORS.md)")
+    p.add_argument("--key", default="student", help="roster column naming the submission folders")
+    p.add_argument("--item", nargs="+", action="extend", default=[], metavar="ASSIGNMENT=TITLE",
+                   help="the LMS's title of an assignment's grade item")
+    p.add_argument("--out", type=Path, default=None, help="default: <gradebook>-<lms>.csv")
+    p = sub.add_parser("clips", help="render each notebook's showcase animation as a clip (MP4 or GIF)")
+    p.add_argument("out", type=Path, nargs="?", default=Path("clips"))
+    p.add_argument("--only", nargs="+", default=None, help="notebooks by number or name, e.g. 08 11")
+    p.add_argument("--format", choices=["mp4", "gif"], default="mp4")
+    p.add_argument("--dpi", type=float, default=None, help="default: each figure's own")
+    p.add_argument("--list", action="store_true", help="list the showcases and exit")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -42,6 +73,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("notebook", type=Path)
     p.add_argument("outdir", type=Path)
     _grade_parser(sub)
+    _more_parsers(sub)
     p = sub.add_parser("release", help="build the package students receive (no solutions)")
     p.add_argument("out", type=Path, nargs="?", default=Path("dist/student"))
     p = sub.add_parser("nbgrader", help="export nbgrader source notebooks (a course folder)")
@@ -66,6 +98,10 @@ def main(argv: list[str] | None = None) -> int:
             print(path)
     elif args.command == "grade":
         return _grade(args)
+    elif args.command in ("synth-class", "export", "clips"):
+        from . import cli_more
+
+        return cli_more.run(args)
     elif args.command == "release":
         from .release import build_release
 
@@ -90,9 +126,17 @@ def _grade(args) -> int:
     try:
         rows = grade_class(args.paths, out, solutions=args.solutions, assignments=args.assignment,
                            limits=limits, jobs=args.jobs, feedback_dir=feedback, report=report,
-                           progress=not args.no_progress, only=args.student)
-    except ValueError as exc:
+                           progress=not args.no_progress, only=args.student,
+                           scheduler=args.scheduler, resume=not args.restart)
+    except KeyboardInterrupt:
+        print(f"interrupted: {out} holds what was graded; run the same command again to resume",
+              file=sys.stderr)
+        return 130
+    except (ValueError, RuntimeError) as exc:
         print(f"error: {exc}", file=sys.stderr)
+        if out.with_name(out.name + ".journal").exists():
+            print("the submissions graded so far are kept: run the same command again to resume",
+                  file=sys.stderr)
         return 2
     totals: dict[str, list[int]] = defaultdict(lambda: [0, 0])
     for r in rows:

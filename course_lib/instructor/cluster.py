@@ -16,7 +16,8 @@ Promises, and who keeps them:
 
 - a task whose worker dies is run again on another worker by the Dask scheduler (up to
   ``distributed.scheduler.allowed-failures`` times, 3 by default); a submission that kills
-  every worker it reaches gets ``error`` rows saying so, and is never lost;
+  every worker it reaches gets ``error`` rows saying so, and is never lost; any other
+  failure of a task (not the submission's doing) stops the run, which then resumes;
 - the client takes the first result of each submission and ignores any other, so none is
   written twice;
 - a worker whose ``course_lib`` differs from the client's (another version of the checks)
@@ -108,8 +109,8 @@ def _read(task: Task) -> bytes | None:
 
 
 def _lost(task: Task, exc: BaseException) -> list[Row]:
-    return _rows(task, "error", f"grading stopped the cluster's workers: {type(exc).__name__}: "
-                 f"{str(exc)[:200]}; regrade it with --student {task.student}")
+    return _rows(task, "error", "every cluster worker that graded this notebook died "
+                 f"({type(exc).__name__}); look at it by hand, or regrade it with --student {task.student}")
 
 
 def grade_on_cluster(tasks: list[Task], kit, limits: Limits, scheduler) -> Iterator[tuple[int, list[Row]]]:
@@ -119,6 +120,7 @@ def grade_on_cluster(tasks: list[Task], kit, limits: Limits, scheduler) -> Itera
     """
     try:
         from distributed import Client, as_completed
+        from distributed.scheduler import KilledWorker
     except ImportError as exc:  # pragma: no cover - distributed is a dependency of the kit
         raise ValueError("scheduler: grading on a cluster needs the 'distributed' package") from exc
     own = not isinstance(scheduler, Client)
@@ -157,11 +159,12 @@ def grade_on_cluster(tasks: list[Task], kit, limits: Limits, scheduler) -> Itera
             i = futures.pop(future)
             if future.status == "finished":
                 rows = future.result()
-            elif future.status == "error":
+            elif future.status == "error" and isinstance(future.exception(), KilledWorker):
+                rows = _lost(tasks[i], future.exception())
+            elif future.status == "error":  # not the submission's doing: stop, resumable
                 exc = future.exception()
-                if isinstance(exc, LibraryMismatch):
-                    raise exc
-                rows = _lost(tasks[i], exc)
+                raise RuntimeError(f"grading {tasks[i].student}'s {tasks[i].assignment.name} failed "
+                                   f"on the cluster: {type(exc).__name__}: {exc}") from exc
             else:
                 raise RuntimeError(f"the cluster dropped the task of {tasks[i].student} "
                                    f"({future.status}); run the same command again to resume")

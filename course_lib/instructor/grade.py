@@ -231,6 +231,9 @@ def grade_class(paths: list[Path], out_csv: Path, *, solutions: Path | None = No
         else:
             todo.append(i)
     journal.start(kept)
+    if kept:
+        print(f"resuming: {len(kept)} of {len(tasks)} submissions were graded by an interrupted run "
+              f"({journal.path.name}); grading the other {len(todo)}", file=sys.stderr)
     rows: list[Row] = [r for _, _, rs in kept for r in rs]
     bar = None
     if progress:

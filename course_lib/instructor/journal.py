@@ -40,7 +40,10 @@ def library_files(names: list[str] | None = None) -> dict[str, str]:
         module = sys.modules.get(name) or importlib.import_module(name)
         path = getattr(module, "__file__", None)
         if path:
-            out[name] = hashlib.sha256(Path(path).read_bytes()).hexdigest()
+            try:
+                out[name] = hashlib.sha256(Path(path).read_bytes()).hexdigest()
+            except OSError:  # removed since it was imported: the loaded code is unknown
+                out[name] = "unreadable"
     return out
 
 
