@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import springs
-from ..lessons import nb07_springs as lesson
+from ..lessons import nb07_spring_runs as lesson
 from . import Checker, exercise
 from .tolerance import blown_up, precision_rtol
 

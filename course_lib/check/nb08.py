@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import hair, springs, strands
-from ..lessons import nb08_hair_chains as lesson
+from ..lessons import nb08_hair_runs as lesson
 from . import Checker, exercise
 from .tolerance import blown_up, precision_rtol
 

@@ -1,4 +1,4 @@
-"""Notebook 07 (springs): a mass on a damped spring, computed fast and exactly.
+"""Notebook 07 (springs), the computations: a mass on a damped spring, fast and exact.
 
 Along its axis the anchored spring of notebook 07 is the linear oscillator
 ``m x'' = -k x - c x'`` (as long as the mass does not reach the anchor). One step of any
@@ -12,7 +12,9 @@ Holds the step matrix (:func:`step_matrix`), the method's stability limit with d
 (:func:`damped_dt_limit`, measured from ``S``, and :func:`symplectic_euler_limit`, its
 closed form), the widget's pure function (:func:`run_spring`), the step limit measured by
 simulation (:func:`spring_dt_max`) and :func:`settling_time`. The drawing and the widget
-live in :mod:`course_lib.lessons.nb07_spring_view`. Built on the core only.
+live in :mod:`course_lib.lessons.nb07_spring_view`, which imports this module (never the
+other way); the notebook imports both through :mod:`course_lib.lessons.nb07_springs`.
+Built on the core only.
 """
 
 from __future__ import annotations
@@ -219,18 +221,3 @@ def settling_time(t, x, tol: float = 0.01) -> float:
     if outside[-1] + 1 >= t.size:
         return float("inf")
     return float(t[outside[-1] + 1])
-
-
-def draw_spring_run(run: SpringRun, fig=None):
-    """Draw a :class:`SpringRun` (stretch, error, energy) in a new figure (or ``fig``)."""
-    from .nb07_spring_view import draw_spring_run as draw
-
-    return draw(run, fig)
-
-
-def spring_explorer(k: float = 10.0, c: float = 0.0, dt: float = 0.05,
-                    method: str = "symplectic_euler"):
-    """The spring widget (see :func:`course_lib.lessons.nb07_spring_view.spring_explorer`)."""
-    from .nb07_spring_view import spring_explorer as explorer
-
-    return explorer(k=k, c=c, dt=dt, method=method)

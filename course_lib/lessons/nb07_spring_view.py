@@ -1,13 +1,15 @@
 """Notebook 07 (springs): the drawing of a spring run and the spring widget.
 
-:class:`SpringPlot` draws a :class:`~course_lib.lessons.nb07_springs.SpringRun` in three
+:class:`SpringPlot` draws a :class:`~course_lib.lessons.nb07_spring_runs.SpringRun` in three
 panels (stretch beside the exact curve, the error on a log scale, the energy on a log
 scale) and redraws in place: a new result updates the data of the same artists, which
 keeps a widget update within about 100 ms. Long runs are thinned for drawing only (every
 ``s``-th step, said in the legend); every step is computed. A run that blows up is drawn
 up to its last finite state, and its growth shows on the log panels.
 
-Lesson layer: imports the lesson's compute module, the plotting style and the widget views.
+Lesson layer: imports the compute module (:mod:`~course_lib.lessons.nb07_spring_runs`), the
+plotting style and the widget views; nothing imports it back but the notebook's facade
+(:mod:`~course_lib.lessons.nb07_springs`) and the kernel-free players.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from matplotlib.ticker import LogLocator, MaxNLocator, NullLocator
 
 from ..integrators import METHODS
 from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS, detached_figure
-from .nb07_springs import SpringRun, run_spring
+from .nb07_spring_runs import SpringRun, run_spring
 
 #: Size of the figure (in) and the most points drawn per curve.
 FIGSIZE = (10.0, 3.5)
@@ -144,7 +146,7 @@ def draw_spring_run(run: SpringRun, fig=None):
 def spring_explorer(k: float = 10.0, c: float = 0.0, dt: float = 0.05,
                     method: str = "symplectic_euler"):
     """The spring widget: sliders for ``k``, ``c`` and ``dt`` and a method menu over
-    :func:`~course_lib.lessons.nb07_springs.run_spring`, drawn by one :class:`SpringPlot`.
+    :func:`~course_lib.lessons.nb07_spring_runs.run_spring`, drawn by one :class:`SpringPlot`.
 
     Returns a :class:`~course_lib.lessons.busy_view.BusyExplorerView`; ``view.result`` is
     the latest :class:`SpringRun`.

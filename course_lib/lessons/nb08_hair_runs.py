@@ -1,10 +1,10 @@
-"""Notebook 08 (hair chains): the held strand and its widget's computation, substep
-studies, the twist experiments.
+"""Notebook 08 (hair chains), the computations: the held strand and its widget's pure
+function, substep studies, the twist experiments.
 
 Built on the strand model of :mod:`course_lib.hair` and :mod:`course_lib.strands` and the
 springs of :mod:`course_lib.springs`. The drawings, the widget and the animations live in
-:mod:`course_lib.lessons.nb08_hair_view` (re-exported here: :func:`draw_held_strand`,
-:func:`held_strand_explorer`, :func:`animate`). The core never imports this module.
+:mod:`course_lib.lessons.nb08_hair_view`, which imports this module (never the other way);
+the notebook imports both through :mod:`course_lib.lessons.nb08_hair_chains`.
 """
 
 from __future__ import annotations
@@ -147,13 +147,3 @@ def twist_release(x0, angle: float = 0.3, k_bend: float = 2000.0, k_twist: float
                                       pinned=tuple(range(cut + 1)), damping=damping,
                                       gravity=None)
     return dt * np.arange(n + 1), twist_angle(x, x0, cut), message
-
-
-def __getattr__(name: str):
-    """The drawings and the widget, from :mod:`course_lib.lessons.nb08_hair_view`."""
-    if name in {"draw_held_strand", "held_strand_explorer", "animate", "HeldStrandPlot",
-                "draw_hairstyle"}:
-        from . import nb08_hair_view
-
-        return getattr(nb08_hair_view, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,6 +1,6 @@
 """Notebook 08 (hair chains): drawings, the hair widget, and the animations.
 
-- :class:`HeldStrandPlot` draws a :class:`~course_lib.lessons.nb08_hair_chains.HeldStrandRun`
+- :class:`HeldStrandPlot` draws a :class:`~course_lib.lessons.nb08_hair_runs.HeldStrandRun`
   (snapshots beside the equilibrium; the tip height against time) and redraws in place;
   a blown-up run shows its last finite state and its growth on a symmetric log scale.
 - :func:`held_strand_explorer`: the widget (bending stiffness, damping, step), which says
@@ -8,7 +8,9 @@
 - :func:`animate` and :func:`draw_hairstyle`: strands seen from the front and from the
   side, strands behind the head drawn behind it.
 
-Lesson layer: imports the lesson's compute module, the plotting style and the widget views.
+Lesson layer: imports the compute module (:mod:`~course_lib.lessons.nb08_hair_runs`), the
+plotting style and the widget views; nothing imports it back but the notebook's facade
+(:mod:`~course_lib.lessons.nb08_hair_chains`) and the kernel-free players.
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ from matplotlib.ticker import MaxNLocator
 from ..hair import FPS
 from ..plotting import EXACT_STYLE, detached_figure
 from ..springs import SpringNetwork
-from .nb08_hair_chains import HeldStrandRun, run_held_strand
+from .nb08_hair_runs import HeldStrandRun, run_held_strand
 
 #: The widget's time span (s) and cap on the steps of one run (and so on its update time).
 T_END, MAX_STEPS = 0.3, 3000
@@ -124,7 +126,7 @@ def draw_held_strand(run: HeldStrandRun, fig=None):
 
 
 def held_strand_explorer(k_bend: float = 2000.0, damping: float = 2e-3, dt: float = 1e-4):
-    """The hair widget over :func:`~course_lib.lessons.nb08_hair_chains.run_held_strand`
+    """The hair widget over :func:`~course_lib.lessons.nb08_hair_runs.run_held_strand`
     (runs capped at :data:`MAX_STEPS` steps). Returns a
     :class:`~course_lib.lessons.busy_view.BusyExplorerView`."""
     import ipywidgets as w

@@ -1,0 +1,33 @@
+"""Notebook 08 (hair chains): what the notebook imports as ``lesson``, in one place.
+
+The computations live in :mod:`course_lib.lessons.nb08_hair_runs` (the held strand and
+the widget's pure function :func:`run_held_strand`, substep studies, twist experiments),
+the drawings, the widget and the animations in :mod:`course_lib.lessons.nb08_hair_view`,
+which imports the runs. This module only gathers both, so imports point one way:
+runs ← view ← this module.
+"""
+
+from __future__ import annotations
+
+from .nb08_hair_runs import (
+    HeldStrandRun,
+    held_strand,
+    max_strain_vs_substeps,
+    run_held_strand,
+    stiffest_edge,
+    tip_sag,
+    twist_energy,
+    twist_release,
+    twist_shapes,
+)
+from .nb08_hair_view import (
+    HeldStrandPlot,
+    animate,
+    draw_hairstyle,
+    draw_held_strand,
+    held_strand_explorer,
+)
+
+__all__ = ["HeldStrandPlot", "HeldStrandRun", "animate", "draw_hairstyle", "draw_held_strand",
+           "held_strand", "held_strand_explorer", "max_strain_vs_substeps", "run_held_strand",
+           "stiffest_edge", "tip_sag", "twist_energy", "twist_release", "twist_shapes"]
