@@ -9,7 +9,8 @@ ROOT_FLAG := $(shell [ "$$(id -u)" = 0 ] && echo --allow-root)
 LAB_ARGS ?=
 FIRST_NOTEBOOK := notebooks/01_vector_fields.ipynb
 
-.PHONY: setup lab test test-unit test-solutions test-notebooks lint student execute grade bench lock clean
+.PHONY: setup lab test test-unit test-nbval test-solutions test-notebooks test-rounding fuzz lint \
+	student execute grade bench lock clean
 
 setup: $(STAMP)
 
@@ -25,24 +26,63 @@ lab: $(STAMP)
 	$(BIN)/jupyter lab --ServerApp.ip=127.0.0.1 --ServerApp.root_dir=$(CURDIR) \
 		--LabApp.default_url=/lab/tree/$(FIRST_NOTEBOOK) $(ROOT_FLAG) $(LAB_ARGS)
 
-# Every test: unit and property tests, lint, solutions (strict nbval), student versions (lax).
-# pytest exits 5 when it collects nothing; that is not a failure of the kit.
+# Every test, in stages (each timed; a table at the end says where the time went):
+#   setup, lint, unit (unit and property tests, doctests), notebooks (strict nbval of the
+#   solutions, each re-run in other orders in its kernel, and the student versions, whose
+#   cells are stored unrun so strict nbval only runs them, as --nbval-lax would), second
+#   rounding (the tests marked roundoff and strict nbval of the solutions again, with
+#   NumPy's SIMD kernels one level down: tests/roundings.py), browser.
+# A failing stage does not stop the later ones; `make test` fails if any failed.
+# pytest exits 5 when it collects nothing; tools/stage.py counts that as a pass.
 PYTEST := $(BIN)/python -m pytest
 NBVAL  := --nbval-current-env --nbval-sanitize-with tests/sanitize.cfg -p no:cacheprovider
+STAGE  := $(PYTHON) tools/stage.py
+# Parallel test processes (pytest-xdist); --dist loadfile keeps a file's tests (a
+# notebook's cells, a module's shared fixture) on one worker.
+JOBS   ?= 2
+XDIST  := -n $(JOBS) --dist loadfile
+# Hypothesis: derandomized in make test (reproducible anywhere), random in make fuzz.
+CI_HYPOTHESIS := HYPOTHESIS_PROFILE=ci
+ROUNDOFF_TESTS = $(shell grep -l "mark.roundoff" tests/test_*.py)
+TEST_STAGES := lint test-unit test-nbval test-rounding test-browser
 
-test: $(STAMP) lint test-unit test-solutions test-notebooks test-browser
+test:
+	@$(STAGE) reset
+	@$(STAGE) run setup -- $(MAKE) --no-print-directory setup
+	@status=0; for stage in $(TEST_STAGES); do \
+		$(MAKE) --no-print-directory $$stage || status=1; done; \
+	$(STAGE) summary; exit $$status
 
 test-unit: $(STAMP)
-	$(PYTEST) tests --ignore=tests/browser --doctest-modules course_lib || test $$? -eq 5
+	@$(STAGE) run unit -- env $(CI_HYPOTHESIS) $(PYTEST) $(XDIST) -p no:cacheprovider \
+		tests --ignore=tests/browser --doctest-modules course_lib
+
+# Solutions (strict, then re-run in other orders) and student versions in one run.
+test-nbval: $(STAMP)
+	@$(STAGE) run notebooks -- $(PYTEST) $(XDIST) --nbval $(NBVAL) --nbval-rerun=solutions \
+		solutions notebooks
 
 test-solutions: $(STAMP)
-	$(PYTEST) --nbval $(NBVAL) solutions || test $$? -eq 5
+	@$(STAGE) run solutions -- $(PYTEST) $(XDIST) --nbval $(NBVAL) solutions
 
 test-notebooks: $(STAMP)
-	$(PYTEST) --nbval-lax $(NBVAL) notebooks || test $$? -eq 5
+	@$(STAGE) run student-versions -- $(PYTEST) $(XDIST) --nbval-lax $(NBVAL) notebooks
+
+# The second rounding: prints the rounding each pass uses, then runs under the lower one.
+test-rounding: $(STAMP)
+	@$(BIN)/python tests/roundings.py
+	@$(STAGE) run second-rounding -- $(BIN)/python tests/roundings.py run \
+		env $(CI_HYPOTHESIS) $(PYTEST) $(XDIST) -m roundoff --nbval $(NBVAL) \
+		$(ROUNDOFF_TESTS) solutions
+
+# Property tests with Hypothesis's random search and FUZZ_FACTOR (10) times the examples;
+# failures are kept in .hypothesis/ and replayed first next time.
+fuzz: $(STAMP)
+	HYPOTHESIS_PROFILE=fuzz $(PYTEST) -n $(JOBS) -p no:cacheprovider -m hypothesis \
+		tests --ignore=tests/browser
 
 lint: $(STAMP)
-	$(BIN)/ruff check course_lib tests benchmarks
+	@$(STAGE) run lint -- $(BIN)/ruff check course_lib tests benchmarks tools
 
 # Instructor tools.
 student: $(STAMP)
@@ -93,4 +133,5 @@ present: $(STAMP)
 
 test-browser: $(STAMP)
 	@mkdir -p build
-	$(PYTEST) tests/browser -p no:cacheprovider --basetemp=build/browser-tmp || test $$? -eq 5
+	@$(STAGE) run browser -- $(PYTEST) tests/browser -p no:cacheprovider \
+		--basetemp=build/browser-tmp

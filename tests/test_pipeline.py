@@ -87,3 +87,11 @@ def test_student_version_has_no_solution_text(path):
             for line in inside.strip().splitlines():
                 if len(line.strip()) > 12:
                     assert line not in cell.source.splitlines(), f"solution line leaked: {line}"
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "notebooks").glob("*.ipynb")), ids=lambda p: p.name)
+def test_student_versions_are_stored_unrun(path):
+    """`make test` runs them with strict nbval beside the solutions; a cell stored unrun
+    (no execution count, no output) is only run, never compared, so that is --nbval-lax."""
+    for cell in code_cells(read(path)):
+        assert cell.execution_count is None and cell.outputs == [], cell.source[:80]

@@ -1,92 +1,77 @@
 """Every solution notebook survives "Run All" followed by re-running its cells in other orders.
 
-Students re-run cells out of order all the time: a cell two screens up, the animation once
-more, the figure after changing a later cell. A cell that only works right after the cell
-above it (because a later cell rebinds a name it uses, or it mutates a shared array) then
-raises, or draws something else. For every notebook in ``solutions/`` this test, in one
-kernel per notebook,
-
-1. runs every code cell top to bottom (as "Run All" does);
-2. runs every code cell once more, bottom to top;
-3. runs every code cell once more, in a seeded random order;
-
-and fails with the list of cells that raised in steps 2-3 (a failure in step 1 is reported
-as such). Cells tagged ``raises-exception`` (or marked ``# NBVAL_RAISES_EXCEPTION``) are
-allowed to raise. Nothing is skipped. Notebooks run two at a time, one kernel each (the
-machine has two cores).
+The re-runs themselves are tests of the notebook run: ``make test`` runs nbval with
+``--nbval-rerun=solutions`` (the plugin in ``tests/nbval_rerun.py``), so right after nbval
+has run a solution top to bottom, its cells run again bottom to top and in a seeded random
+order in the same kernel, and ``solutions/NN.ipynb::rerun in other orders`` fails with the
+cells that raised. This file tests that plugin: which cells and orders it uses, that it
+catches a cell broken by a later one, and that ``make test`` asks for it.
 """
 
 from __future__ import annotations
 
-import os
-import random
-from concurrent.futures import ThreadPoolExecutor
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
 
+import nbformat
 import pytest
-from notebook_helpers import SOLUTIONS, read
-
-SEED = 2026
-EXPECTED_TO_RAISE = "NBVAL_RAISES_EXCEPTION"
-WORKERS = min(2, os.cpu_count() or 1)
+from nbval_rerun import rerun_cells, rerun_orders
+from notebook_helpers import ROOT, SOLUTIONS, code_cells, read
 
 
-def _first_line(source: str) -> str:
-    line = next((s for s in source.splitlines() if s.strip() and not s.startswith("#")), "")
-    return line[:70]
+def _notebook(*sources: str, tags: dict | None = None) -> nbformat.NotebookNode:
+    nb = nbformat.v4.new_notebook()
+    nb.metadata.kernelspec = {"name": "python3", "display_name": "Python 3",
+                              "language": "python"}
+    nb.cells = [nbformat.v4.new_code_cell(s) for s in sources]
+    for index, cell_tags in (tags or {}).items():
+        nb.cells[index].metadata["tags"] = cell_tags
+    return nb
 
 
-def _error_of(cell) -> str | None:
-    for out in cell.get("outputs", []):
-        if out.get("output_type") == "error":
-            return f"{out.get('ename')}: {out.get('evalue')}"
-    return None
-
-
-def _rerun(path) -> list[str]:
-    """Run All, then the two other orders, in one kernel; the cells that raised."""
-    from nbclient import NotebookClient
-
-    nb = read(path)
-    client = NotebookClient(
-        nb, timeout=240, kernel_name="python3", allow_errors=True,
-        extra_arguments=["--log-level=ERROR"],
-        resources={"metadata": {"path": str(path.parent)}},
-    )
-    cells = [
-        (index, cell) for index, cell in enumerate(nb.cells)
-        if cell.cell_type == "code" and cell.source.strip()
-        and "raises-exception" not in cell.metadata.get("tags", [])
-        and EXPECTED_TO_RAISE not in cell.source
-    ]
-    shuffled = list(cells)
-    random.Random(SEED).shuffle(shuffled)
-    passes = [("Run All", cells), ("reverse order", cells[::-1]),
-              (f"random order (seed {SEED})", shuffled)]
-    failures = []
-    with client.setup_kernel():
-        for name, order in passes:
-            for index, cell in order:
-                client.execute_cell(cell, index)
-                error = _error_of(cell)
-                if error:
-                    failures.append(f"{name}: cell {index} ({_first_line(cell.source)!r}) "
-                                    f"raised {error}")
-            if name == "Run All" and failures:
-                break  # the notebook does not even run top to bottom
-    return failures
-
-
-@pytest.fixture(scope="module")
-def rerun_failures():
-    """Every notebook's failures; two notebooks at a time, each kernel on its own core."""
-    with ThreadPoolExecutor(max_workers=WORKERS) as pool:
-        futures = {path: pool.submit(_rerun, path) for path in SOLUTIONS}
-        return {path: future.exception() or future.result() for path, future in futures.items()}
+def test_every_code_cell_is_rerun_except_those_meant_to_raise_or_skipped():
+    nb = _notebook("a = 1", "# NBVAL_RAISES_EXCEPTION\n1 / 0", "  ", "# NBVAL_SKIP\nslow()",
+                   "b = a", "raise KeyError", tags={5: ["raises-exception"]})
+    nb.cells.insert(1, nbformat.v4.new_markdown_cell("text"))
+    assert [i for i, _ in rerun_cells(nb)] == [0, 5]
 
 
 @pytest.mark.parametrize("path", SOLUTIONS, ids=lambda p: p.name)
-def test_cells_survive_rerun_in_any_order(path, rerun_failures):
-    failures = rerun_failures[path]
-    if isinstance(failures, BaseException):
-        raise failures
-    assert not failures, f"{path.name}:\n  " + "\n  ".join(failures)
+def test_both_orders_rerun_every_cell_once(path):
+    cells = rerun_cells(read(path))
+    assert len(cells) >= len(code_cells(read(path))) - 3   # few cells are left out
+    (first, reverse), (second, shuffled) = rerun_orders(cells)
+    assert reverse == cells[::-1] and first == "reverse order"
+    assert sorted(shuffled) == sorted(cells) and "seed" in second
+    if len(cells) > 3:
+        assert shuffled not in (cells, cells[::-1])
+
+
+def test_a_cell_broken_by_a_later_cell_fails_the_rerun():
+    """A notebook that runs top to bottom but not again: the rerun test names the cell."""
+    build = ROOT / "build"
+    build.mkdir(exist_ok=True)
+    folder = tempfile.mkdtemp(prefix="rerun-", dir=build)
+    try:
+        nbformat.write(_notebook("x = 1", "y = x + 1", "x = 'text'"), f"{folder}/nb.ipynb")
+        nbformat.write(_notebook("v = [1, 2]", "w = v[0]"), f"{folder}/good.ipynb")
+        done = subprocess.run(
+            [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-p", "no:xdist",
+             "--nbval-lax", "--nbval-current-env", f"--nbval-rerun={folder}", folder, "-rA"],
+            cwd=ROOT, capture_output=True, text=True, timeout=300)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    out = done.stdout
+    assert done.returncode == 1, out[-3000:]
+    assert re.search(r"FAILED \S*nb\.ipynb::rerun in other orders", out), out[-3000:]
+    assert "reverse order: cell 1 ('y = x + 1') raised TypeError" in out
+    assert re.search(r"PASSED \S*good\.ipynb::rerun in other orders", out), out[-3000:]
+    assert "6 passed" in out and "1 failed" in out   # 5 cells and one rerun
+
+
+def test_make_test_reruns_the_solutions():
+    makefile = (ROOT / "Makefile").read_text()
+    assert "--nbval-rerun=solutions" in makefile

@@ -1,0 +1,112 @@
+"""The nbval plugin of ``make test``: re-run each solution's cells in other orders right
+after nbval's Run All, and mark nbval's cells ``roundoff``. Loaded by the root ``conftest.py``.
+
+Students re-run cells out of order all the time: a cell two screens up, the animation once
+more, the figure after changing a later cell. A cell that only works right after the cell
+above it (because a later cell rebinds a name it uses, or it mutates a shared array) then
+raises. With ``--nbval-rerun=DIR`` every notebook under ``DIR`` that nbval runs gets one
+more test, ``rerun in other orders``: in the kernel nbval has just run top to bottom, every
+code cell runs once more bottom to top, then once more in a seeded random order, and the
+test fails with the list of cells that raised. Cells marked to raise
+(``NBVAL_RAISES_EXCEPTION``, tag ``raises-exception``) or skipped (``NBVAL_SKIP``) are left
+out. Reusing nbval's kernel saves a third run of every notebook. Every nbval cell is marked
+``roundoff`` (stored outputs quote numbers), so ``pytest -m roundoff --nbval solutions``
+repeats them under the second rounding.
+"""
+
+from __future__ import annotations
+
+import random
+from pathlib import Path
+from queue import Empty
+
+import pytest
+
+RERUN_SEED = 2026
+EXPECTED_TO_RAISE = ("NBVAL_RAISES_EXCEPTION", "NBVAL_SKIP")
+TAGS_LEFT_OUT = {"raises-exception", "nbval-skip"}
+
+
+def pytest_addoption(parser):
+    parser.addoption("--nbval-rerun", action="append", default=[], metavar="DIR",
+                     help="after nbval's Run All of each notebook under DIR, re-run its "
+                          "cells bottom to top and in a seeded random order")
+
+
+def rerun_cells(nb) -> list[tuple[int, str]]:
+    """(index among the notebook's cells, source) of the code cells that are re-run."""
+    return [(i, c.source) for i, c in enumerate(nb.cells)
+            if c.cell_type == "code" and c.source.strip()
+            and not TAGS_LEFT_OUT & set(c.metadata.get("tags", []))
+            and not any(marker in c.source for marker in EXPECTED_TO_RAISE)]
+
+
+def rerun_orders(cells: list, seed: int = RERUN_SEED) -> list[tuple[str, list]]:
+    """The two passes after Run All: bottom to top, then a seeded shuffle."""
+    shuffled = list(cells)
+    random.Random(seed).shuffle(shuffled)
+    return [("reverse order", cells[::-1]), (f"random order (seed {seed})", shuffled)]
+
+
+def _first_line(source: str) -> str:
+    return next((s for s in source.splitlines() if s.strip() and not s.startswith("#")), "")[:70]
+
+
+class RerunItem(pytest.Item):
+    """Re-run a notebook's cells in other orders in the kernel nbval ran it in."""
+
+    def runtest(self):
+        nbfile = self.parent
+        if nbfile.nodeid in _failed_notebooks:
+            pytest.skip("a cell failed in Run All: fix that first")
+        kernel = nbfile.kernel
+        timeout = self.config.option.nbval_cell_timeout
+        failures = []
+        for name, order in rerun_orders(rerun_cells(nbfile.nb)):
+            for index, source in order:
+                msg_id = kernel.execute_cell_input(source, allow_stdin=False)
+                reply = _reply(kernel, msg_id, timeout)
+                kernel.await_idle(msg_id, timeout)  # drain this cell's outputs
+                if reply["status"] != "ok":
+                    failures.append(f"{name}: cell {index} ({_first_line(source)!r}) raised "
+                                    f"{reply.get('ename')}: {reply.get('evalue')}")
+        assert not failures, f"{nbfile.path.name}:\n  " + "\n  ".join(failures)
+
+    def reportinfo(self):
+        return self.path, None, f"{self.path.name}: rerun in other orders"
+
+
+def _reply(kernel, msg_id: str, timeout: float) -> dict:
+    while True:
+        try:
+            msg = kernel.get_message(stream="shell", timeout=timeout)
+        except Empty:
+            raise TimeoutError(f"a cell took more than {timeout} s") from None
+        if msg["parent_header"].get("msg_id") == msg_id:
+            return msg["content"]
+
+
+_failed_notebooks: set[str] = set()
+
+
+def pytest_runtest_logreport(report):
+    """Remember notebooks whose Run All failed (their rerun is skipped, not reported twice)."""
+    if report.failed and ".ipynb::" in report.nodeid:
+        _failed_notebooks.add(report.nodeid.split("::")[0])
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(session, config, items):
+    """Mark nbval's cells ``roundoff``; append a rerun test to each notebook under a
+    ``--nbval-rerun`` folder (after its last cell, so it shares the notebook's kernel)."""
+    dirs = [Path(d).resolve() for d in config.getoption("nbval_rerun")]
+    out, last = [], {}
+    for item in items:
+        if type(item).__name__ == "IPyNbCell":
+            item.add_marker(pytest.mark.roundoff)
+            last[item.parent] = len(out)
+        out.append(item)
+    for nbfile, position in sorted(last.items(), key=lambda kv: -kv[1]):
+        if any(d == nbfile.path.parent or d in nbfile.path.parents for d in dirs):
+            out.insert(position + 1, RerunItem.from_parent(nbfile, name="rerun in other orders"))
+    items[:] = out

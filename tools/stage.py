@@ -1,0 +1,69 @@
+"""Time the stages of ``make test`` and print where the time went.
+
+``python3 tools/stage.py run NAME -- CMD ...`` runs CMD, records its wall time and the CPU
+time (user + system) of every process it waited for (pytest, its xdist workers, kernels,
+servers), and exits with CMD's code; pytest's 5 ("no tests collected") counts as a pass.
+``reset`` starts a new record; ``summary`` prints the table. Standard library only, so it
+also times the setup that creates ``.venv``. The record is ``build/test-stages.tsv``.
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+RECORD = Path(__file__).resolve().parents[1] / "build" / "test-stages.tsv"
+NO_TESTS = 5  # pytest: nothing collected (e.g. a folder without notebooks yet)
+
+
+def _children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def run(name: str, cmd: list[str]) -> int:
+    cpu0, wall0 = _children_cpu(), time.monotonic()
+    code = subprocess.call(cmd)
+    wall, cpu = time.monotonic() - wall0, _children_cpu() - cpu0
+    if code == NO_TESTS:
+        print(f"{name}: pytest collected no tests (exit 5); not a failure of the kit")
+        code = 0
+    RECORD.parent.mkdir(exist_ok=True)
+    with RECORD.open("a") as out:
+        out.write(f"{name}\t{wall:.1f}\t{cpu:.1f}\t{code}\n")
+    return code
+
+
+def summary() -> str:
+    rows = [line.split("\t") for line in RECORD.read_text().splitlines()] \
+        if RECORD.exists() else []
+    lines = [f"make test, per stage ({os.cpu_count()} cores): wall time, CPU time of its "
+             "processes, result", f"  {'stage':<18}{'wall':>9}{'CPU':>9}"]
+    wall = cpu = 0.0
+    for name, w, c, code in rows:
+        wall, cpu = wall + float(w), cpu + float(c)
+        verdict = "ok" if code == "0" else f"FAILED (exit {code})"
+        lines.append(f"  {name:<18}{float(w):>8.1f}s{float(c):>8.1f}s  {verdict}")
+    lines.append(f"  {'total':<18}{wall:>8.1f}s{cpu:>8.1f}s  ({wall / 60:.1f} min)")
+    return "\n".join(lines)
+
+
+def main(argv: list[str]) -> int:
+    if argv[:1] == ["reset"]:
+        RECORD.unlink(missing_ok=True)
+        return 0
+    if argv[:1] == ["summary"]:
+        print(summary())
+        return 0
+    if len(argv) >= 4 and argv[0] == "run" and argv[2] == "--":
+        return run(argv[1], argv[3:])
+    print(__doc__, file=sys.stderr)
+    return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
