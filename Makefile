@@ -133,5 +133,5 @@ present: $(STAMP)
 
 test-browser: $(STAMP)
 	@mkdir -p build
-	@$(STAGE) run browser -- $(PYTEST) tests/browser -p no:cacheprovider \
+	@$(STAGE) run browser -- $(PYTEST) -n $(JOBS) --dist loadgroup tests/browser -p no:cacheprovider \
 		--basetemp=build/browser-tmp

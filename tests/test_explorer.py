@@ -19,6 +19,8 @@ from course_lib.lessons import nb03_problems
 from course_lib.lessons import nb03_stability as ex
 from course_lib.plotting import METHOD_LABELS
 
+pytestmark = pytest.mark.roundoff  # numerics: make test repeats it under a second rounding
+
 
 @pytest.fixture(scope="module")
 def view():

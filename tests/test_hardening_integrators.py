@@ -19,6 +19,8 @@ from course_lib import fields, forces, implicit
 from course_lib.systems import NewtonianSystem, stack_state
 from course_lib.timegrid import grid_tolerance, time_grid
 
+pytestmark = pytest.mark.roundoff  # numerics: make test repeats it under a second rounding
+
 # --- f that reuses its output buffer, or scribbles over its argument ---------------------
 
 

@@ -15,6 +15,8 @@ import course_lib as cl
 from course_lib import collisions, forces
 from course_lib.systems import NewtonianSystem, split_particles, stack_state, sum_forces
 
+pytestmark = pytest.mark.roundoff  # numerics: make test repeats it under a second rounding
+
 rng = np.random.default_rng(7)
 
 

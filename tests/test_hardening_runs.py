@@ -14,6 +14,8 @@ import scipy.sparse.linalg as spla
 import course_lib as cl
 from course_lib import implicit
 
+pytestmark = pytest.mark.roundoff  # numerics: make test repeats it under a second rounding
+
 IMPLICIT = sorted(cl.IMPLICIT_METHODS)
 
 

@@ -1,22 +1,20 @@
-"""`make lab` serves the course: JupyterLab on 127.0.0.1, token required."""
+"""`make lab` serves the course: JupyterLab on 127.0.0.1, token required.
+
+The server is started on port 0 (the system picks a free one, which the log names), so
+that two tests, or two test runs, never race for a port another process grabs meanwhile.
+"""
 
 import contextlib
 import json
 import os
+import re
 import signal
-import socket
 import subprocess
 import time
 import urllib.error
 import urllib.request
 
 from notebook_helpers import ROOT
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def get(url: str):
@@ -28,17 +26,23 @@ def get(url: str):
 
 
 def test_make_lab_serves_with_token(tmp_path):
-    port, token = free_port(), "course-test-token"
-    args = f"--no-browser --port={port} --IdentityProvider.token={token}"
+    token = "course-test-token"
+    args = f"--no-browser --port=0 --IdentityProvider.token={token}"
     log = (tmp_path / "lab.log").open("w+")
     proc = subprocess.Popen(["make", "-s", "lab", f"LAB_ARGS={args}"], cwd=ROOT,
                             stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
                             env={**os.environ, "JUPYTER_PLATFORM_DIRS": "1"})
     try:
-        base = f"http://127.0.0.1:{port}"
-        deadline = time.monotonic() + 60
-        status = None
+        deadline = time.monotonic() + 90
+        status, port = None, None
         while time.monotonic() < deadline and proc.poll() is None:
+            log.seek(0)
+            found = re.search(r"http://127\.0\.0\.1:(\d+)/", log.read())
+            if found is None:
+                time.sleep(0.5)
+                continue
+            port = int(found.group(1))
+            base = f"http://127.0.0.1:{port}"
             try:
                 status, body = get(f"{base}/api/status?token={token}")
                 if status == 200:
@@ -48,7 +52,7 @@ def test_make_lab_serves_with_token(tmp_path):
             time.sleep(0.5)
         log.seek(0)
         output = log.read()
-        assert status == 200, f"JupyterLab did not answer:\n{output}"
+        assert status == 200 and port, f"JupyterLab did not answer:\n{output}"
         assert "started" in json.loads(body)
         assert get(f"{base}/api/status")[0] == 403, "the API must require the token"
         assert get(f"{base}/api/contents/notebooks?token={token}")[0] == 200

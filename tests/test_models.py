@@ -7,6 +7,8 @@ import course_lib as cl
 from course_lib import fields, forces, springs
 from course_lib.systems import NewtonianSystem, stack_state, sum_forces
 
+pytestmark = pytest.mark.roundoff  # numerics: make test repeats it under a second rounding
+
 rng = np.random.default_rng(2026)
 
 

@@ -139,11 +139,13 @@ def test_spring_player_flips_at_k_400():
     assert player.nbytes <= 300_000
 
 
+@pytest.mark.roundoff  # 9000 and 9500 are 3 % either side of the limit
 def test_hair_player_flips_between_9000_and_9500():
     player = kernel_free.hair_player(k_bends=(9000.0, 9500.0))
     assert player.captions[0].startswith("stable") and player.captions[1].startswith("BLOWN UP")
 
 
+@pytest.mark.roundoff  # a flock's run amplifies round-off
 def test_flocking_player_shows_the_alignment_step_overshooting():
     player = kernel_free.flocking_player(alignments=(5.0, 8.0))
     assert "one aligned flock" in player.captions[0]

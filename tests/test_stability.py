@@ -5,6 +5,8 @@ import pytest
 
 import course_lib as cl
 
+pytestmark = pytest.mark.roundoff  # numerics: make test repeats it under a second rounding
+
 Z = np.array([-3.0, -1.0, -0.1, 0.5j, 1.3j, -0.4 + 0.8j, -2.2 - 1.1j, 0.3 + 0.2j])
 
 CLOSED = {

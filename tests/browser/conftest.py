@@ -1,16 +1,23 @@
 """Browser tests: Playwright driving Debian's Chromium against JupyterLab, the site and Voila.
 
-Run with ``make test-browser`` (part of ``make test``) or ``pytest tests/browser``; a plain
-``pytest tests`` leaves this folder out. Chromium is Debian's (``/usr/bin/chromium``): when
-it is missing and we are root it is installed with apt-get, otherwise every test is skipped
-with a message saying how to enable them. No browser is ever downloaded. A failing test
-leaves a screenshot in ``build/browser-screenshots/``.
+Run with ``make test-browser`` (part of ``make test``, on two pytest-xdist workers) or
+``pytest tests/browser``; a plain ``pytest tests`` leaves this folder out. Each worker has
+its own browser and JupyterLab (session fixtures ``browser``, ``lab``; a fresh ``page`` per
+test). Tests are spread one by one (``--dist loadgroup``); a module whose fixture is costly
+to build twice (the site, Voila) keeps its tests on one worker with
+``pytestmark = pytest.mark.xdist_group("name")``. Servers bind port 0 or ``free_port()``.
+Chromium is Debian's (``/usr/bin/chromium``): when it is missing and we are root it is
+installed with apt-get (one worker at a time), otherwise every test is skipped with a
+message saying how to enable them. No browser is ever downloaded. A failing test leaves a
+screenshot in ``build/browser-screenshots/``.
 """
 
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import os
+import re
 import shutil
 import signal
 import socket
@@ -70,9 +77,15 @@ def _chromium_missing() -> str | None:
     if os.geteuid() != 0 or shutil.which("apt-get") is None:
         return f"browser tests skipped: /usr/bin/chromium is missing; {how}"
     env = {**os.environ, "DEBIAN_FRONTEND": "noninteractive"}
-    subprocess.run(["apt-get", "update", "-qq"], env=env, capture_output=True)
-    done = subprocess.run(["apt-get", "install", "-y", "-qq", "chromium"], env=env,
-                          capture_output=True, text=True)
+    lock = ROOT / "build" / "chromium-install.lock"
+    lock.parent.mkdir(exist_ok=True)
+    with lock.open("w") as held:   # one install at a time (pytest-xdist runs two workers)
+        fcntl.flock(held, fcntl.LOCK_EX)
+        if CHROMIUM.exists():
+            return None
+        subprocess.run(["apt-get", "update", "-qq"], env=env, capture_output=True)
+        done = subprocess.run(["apt-get", "install", "-y", "-qq", "chromium"], env=env,
+                              capture_output=True, text=True)
     if done.returncode != 0 or not CHROMIUM.exists():
         return f"browser tests skipped: `apt-get install chromium` failed ({done.stderr[-300:]}); {how}"
     return None
@@ -144,24 +157,30 @@ def _answers(url: str) -> bool:
     return False
 
 
-def wait_http(url: str, proc: subprocess.Popen, log: Path, timeout: float = 90) -> None:
+def wait_http(url, proc: subprocess.Popen, log: Path, timeout: float = 90) -> str:
+    """Wait until ``url`` answers (see ``_answers``); ``url`` may be a function of the log's
+    text that returns the URL once the server has printed it (None before). Returns it."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         if proc.poll() is not None:
             raise RuntimeError(f"server exited:\n{log.read_text()[-3000:]}")
-        if _answers(url):
-            return
+        now = url(log.read_text()) if callable(url) else url
+        if now is not None and _answers(now):
+            return now
         time.sleep(0.5)
     raise RuntimeError(f"no answer from {url}:\n{log.read_text()[-3000:]}")
 
 
 @contextlib.contextmanager
-def server(cmd: list[str], env: dict, cwd: Path, log: Path, ready_url: str):
+def server(cmd: list[str], env: dict, cwd: Path, log: Path, ready_url):
+    """Run a server (its own process group, output in ``log``) until the ``with`` ends;
+    ready once ``ready_url`` answers (a URL, or a function of the log text as in
+    ``wait_http``). Yields the process; its ``ready_url`` attribute is the URL that answered."""
     with log.open("w") as out:
         proc = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=out, stderr=subprocess.STDOUT,
                                 start_new_session=True)
         try:
-            wait_http(ready_url, proc, log)
+            proc.ready_url = wait_http(ready_url, proc, log)
             yield proc
         finally:
             with contextlib.suppress(ProcessLookupError):
@@ -209,15 +228,18 @@ def lab(browser, tmp_path_factory):
     root = tmp_path_factory.mktemp("lab")
     for folder in ("notebooks", "solutions"):
         shutil.copytree(ROOT / folder, root / folder)
-    port = free_port()
     bindir = Path(sys.executable).parent
-    cmd = [str(bindir / "jupyter"), "lab", "--no-browser", f"--port={port}",
+    # port 0: the system picks a free port and the log names it (no race for a port)
+    cmd = [str(bindir / "jupyter"), "lab", "--no-browser", "--port=0",
            "--ServerApp.ip=127.0.0.1", f"--ServerApp.root_dir={root}",
            f"--IdentityProvider.token={TOKEN}", "--LabApp.expose_app_in_browser=True"]
     if os.geteuid() == 0:
         cmd.append("--allow-root")
     log = root / "lab.log"
-    base = f"http://127.0.0.1:{port}"
-    with server(cmd, fresh_jupyter_env(root / "home"), root, log,
-                f"{base}/api/status?token={TOKEN}"):
-        yield Lab(base, root, log)
+
+    def status_url(text: str) -> str | None:
+        found = re.search(r"http://127\.0\.0\.1:(\d+)/", text)
+        return found and f"http://127.0.0.1:{found.group(1)}/api/status?token={TOKEN}"
+
+    with server(cmd, fresh_jupyter_env(root / "home"), root, log, status_url) as proc:
+        yield Lab(proc.ready_url.split("/api/")[0], root, log)

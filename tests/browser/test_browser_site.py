@@ -7,6 +7,8 @@ import pytest
 
 from conftest import ROOT
 
+pytestmark = pytest.mark.xdist_group("site")  # one worker builds it
+
 PAGES = ["01_vector_fields", "03_stability"]
 
 

@@ -10,6 +10,8 @@ import pytest
 
 from conftest import ROOT, TOKEN, free_port, fresh_jupyter_env, server
 
+pytestmark = pytest.mark.xdist_group("voila")  # one worker builds it
+
 
 @pytest.fixture(scope="module")
 def voila(browser, tmp_path_factory):
