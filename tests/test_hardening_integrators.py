@@ -223,8 +223,13 @@ def test_one_gyration_period_ends_on_the_period():
     y0 = stack_state([[1.0, 0.0, 0.0]], [[0.0, -3.0, 0.2]])
     traj = cl.integrate(system, y0, (0.0, period), 1e-3, "rk4")
     assert traj.t[-1] == period
-    # after exactly one period the charge is back over its start, risen by v_z T
-    np.testing.assert_allclose(traj.y[-1, 0, 0], [1.0, 0.0, 0.2 * period], atol=1e-10)
+    # after exactly one period the charge is back over its start, risen by v_z T, to RK4's
+    # error: per step e^(ih) - R(ih) = (ih)^5/5! + ..., h = ω dt (ω = qB/m), on a circle of
+    # radius r = m v⊥/(qB) = 1 m, over n steps; and round-off, a few ulps a step
+    omega, n = q * 1.5 / m, traj.n_steps
+    truncation = n * (omega * 1e-3) ** 5 / 120 * 1.0
+    np.testing.assert_allclose(traj.y[-1, 0, 0], [1.0, 0.0, 0.2 * period],
+                               atol=2 * truncation + 8 * n * np.finfo(float).eps)
 
 
 @pytest.mark.parametrize("span,dt", [((0.0, 1.0), 1.9), ((0.0, 1.0), 1.0 + 1e-9), ((5.0, 6.0), 3.0)])
@@ -239,7 +244,11 @@ def test_dt_longer_than_the_span_says_so(span, dt):
 def test_rk4_on_the_radial_field_to_t_20_is_accurate_not_unstable():
     traj = cl.integrate(fields.radial, [1.0, -0.5], (0.0, 20.0), 0.01, "rk4")
     assert traj.stable and traj.message == "ok"
-    np.testing.assert_allclose(traj.y[-1], np.exp(20.0) * np.array([1.0, -0.5]), rtol=1e-8)
+    # RK4's R(h) = e^h - h^5/5! + ...: a relative error n h^5/120 after n steps, and
+    # round-off of a few ulps a step
+    n, h = traj.n_steps, 0.01
+    np.testing.assert_allclose(traj.y[-1], np.exp(20.0) * np.array([1.0, -0.5]),
+                               rtol=2 * n * h**5 / 120 + 8 * n * np.finfo(float).eps)
 
 
 @pytest.mark.parametrize("method", ["velocity_verlet", "symplectic_euler", "rk4"])
