@@ -26,7 +26,6 @@ from __future__ import annotations
 import numpy as np
 
 from .. import _validate
-from .inertia import world_tensor
 from .quaternion import cross, rotate
 
 #: Penetration tolerated before positions are corrected, as a fraction of a body's size.
@@ -73,48 +72,30 @@ def _mv(A, x):
     return (A @ x[..., None])[..., 0]
 
 
-class _Slot:
-    """Contacts of distinct bodies ``i`` with bodies ``j`` (``j = −1``: the ground), with the
-    matrices that map an impulse to velocity changes, precomputed for the solve."""
+def _relative(v, w, i, j, ri, rj):
+    """Velocity (m/s) of the contact points on bodies ``j`` relative to those on ``i``."""
+    u = -v[i] - cross(w[i], ri)
+    on = j >= 0
+    u[on] += v[j[on]] + cross(w[j[on]], rj[on])
+    return u
 
-    def __init__(self, i, j, ri, rj, n, inv_m, inv_I):
-        self.i, self.n, self.other = i, n, j >= 0
-        self.j = j[self.other]
-        self.hi, self.hj = _hat(ri), _hat(rj[self.other])
-        self.inv_mi, self.inv_mj = inv_m[i][:, None], inv_m[self.j][:, None]
-        self.Ai, self.Aj = inv_I[i] @ self.hi, inv_I[self.j] @ self.hj     # Δω per impulse
-        K = inv_m[i][:, None, None] * np.eye(3) - self.hi @ self.Ai        # Δu per impulse
-        K[self.other] += inv_m[self.j][:, None, None] * np.eye(3) - self.hj @ self.Aj
-        self.K = K
-        self.k_n = np.einsum("ni,nij,nj->n", n, K, n)
-        self.target = np.zeros(len(i))
-        self.lam, self.J = np.zeros(len(i)), np.zeros((len(i), 3))
 
-    @staticmethod
-    def relative(v, w, i, j, ri, rj):
-        """Velocity of the contact points on ``j`` relative to those on ``i`` (m/s)."""
-        u = -v[i] - cross(w[i], ri)
-        on = j >= 0
-        u[on] += v[j[on]] + cross(w[j[on]], rj[on])
-        return u
-
-    def velocity(self, v, w):
-        """Velocity of the contact point on ``j`` relative to the one on ``i`` (m/s)."""
-        u = _mv(self.hi, w[self.i]) - v[self.i]
-        u[self.other] += v[self.j] - _mv(self.hj, w[self.j])
-        return u
-
-    def apply(self, v, w, J):
-        """Impulse ``J`` on ``j``, ``−J`` on ``i`` (bodies within a slot are distinct)."""
-        v[self.i] -= self.inv_mi * J
-        w[self.i] -= _mv(self.Ai, J)
-        Jo = J[self.other]
-        v[self.j] += self.inv_mj * Jo
-        w[self.j] += _mv(self.Aj, Jo)
+def _jacobian(i, j, ri, rj, n_bodies):
+    """``G`` (3C, 6N): the relative velocity of every contact from the bodies' ``(v, ω)``,
+    ``u = (v_j + ω_j × r_j) − (v_i + ω_i × r_i)``, with ``ω × r = −r̂ ω``."""
+    C = len(i)
+    G = np.zeros((C, 3, n_bodies, 6))
+    rows = np.arange(C)
+    G[rows, :, i, :3] = -np.eye(3)
+    G[rows, :, i, 3:] = _hat(ri)
+    on = j >= 0
+    G[rows[on], :, j[on], :3] = np.eye(3)
+    G[rows[on], :, j[on], 3:] = -_hat(rj[on])
+    return G.reshape(3 * C, 6 * n_bodies)
 
 
 class _Impulses:
-    """Sequential impulses on contact slots (see the module's docstring)."""
+    """Sequential impulses on a list of contacts (see the module's docstring)."""
 
     #: The iteration stops early once no impulse changes by more than this, relatively.
     converged = 1e-13
@@ -124,57 +105,74 @@ class _Impulses:
             restitution, friction, iterations, rest_speed)
         self.slop = _validate.finite_real("slop", slop)
 
-    def solve(self, b, slots, dt: float, before=None) -> None:
-        """``slots``: list of ``(i, j, ri, rj, n, gap)``: body rows, offsets (m), unit normals
-        pointing from ``i`` to ``j`` and gaps (m); contacts within one slot involve
-        distinct bodies. A contact takes part if it closes within ``dt``; it bounces if it
-        approached faster than ``rest_speed`` before this step's forces (``before``: the
-        momenta ``(P, L)`` then; default the current ones), else it may close its gap but
-        not pass it. Bouncing on the velocity before the kick keeps a resting body from
-        returning, every step, the speed the step's gravity gave it."""
+    def solve(self, b, i, j, ri, rj, n, gap, dt: float, before=None) -> None:
+        """Contacts ``c`` between bodies ``i[c]`` and ``j[c]`` (``−1``: the ground) at offsets
+        ``ri``, ``rj`` (C, 3) (m), unit normals ``n`` pointing from ``i`` to ``j`` and gaps
+        (m). A contact takes part if it closes within ``dt``; it bounces if it approached
+        faster than ``rest_speed`` before this step's forces (``before``: the momenta
+        ``(P, L)`` then; default the current ones), else it may close its gap but not
+        pass it. Bouncing on the velocity before the kick keeps a resting body from
+        returning, every step, the speed the step's gravity gave it.
+
+        The contacts are visited in order (Gauss–Seidel) on the dense matrix
+        ``W = G M⁻¹ Gᵀ`` (3C, 3C) that maps impulses to relative velocities."""
         inv_m, inv_I = 1.0 / b.mass, b.inv_inertia
         v, w = b.v, _mv(inv_I, b.L)
-        v0, w0 = (v, w) if before is None else (before[0] * inv_m[:, None], _mv(inv_I, before[1]))
-        work = []
-        for i, j, ri, rj, n, gap in slots:
-            u_n = np.sum((_Slot.relative(v, w, i, j, ri, rj)) * n, axis=1)
-            near = np.minimum(gap, gap + dt * u_n) < self.slop
-            if not np.any(near):
-                continue
-            slot = _Slot(i[near], j[near], ri[near], rj[near], n[near], inv_m, inv_I)
-            u0 = np.sum(_Slot.relative(v0, w0, slot.i, j[near], ri[near], rj[near]) * slot.n, axis=1)
-            bounce = -u0 > self.rest_speed
-            slot.target = np.where(bounce, -self.e * u0, -np.maximum(gap[near], 0.0) / dt)
-            work.append(slot)
-        if not work:
+        u_n = np.sum(_relative(v, w, i, j, ri, rj) * n, axis=1)
+        near = np.minimum(gap, gap + dt * u_n) < self.slop
+        if not np.any(near):
             return
+        i, j, ri, rj, n, gap = i[near], j[near], ri[near], rj[near], n[near], gap[near]
+        if before is not None:
+            v, w = before[0] * inv_m[:, None], _mv(inv_I, before[1])
+        u0 = np.sum(_relative(v, w, i, j, ri, rj) * n, axis=1)
+        target = np.where(-u0 > self.rest_speed, -self.e * u0, -np.maximum(gap, 0.0) / dt)
+        G = _jacobian(i, j, ri, rj, b.n)
+        inv_M = np.zeros((b.n, 6, b.n, 6))
+        bodies = np.arange(b.n)
+        inv_M[bodies, :3, bodies, :3] = inv_m[:, None, None] * np.eye(3)
+        inv_M[bodies, 3:, bodies, 3:] = inv_I
+        inv_M = inv_M.reshape(6 * b.n, 6 * b.n)
+        W = G @ inv_M @ G.T
+        u = G @ np.concatenate((b.v, _mv(inv_I, b.L)), axis=1).ravel()
+        J = self._gauss_seidel(W, u, n, target)
+        dmomentum = (G.T @ J).reshape(b.n, 6)
+        b.P = b.P + dmomentum[:, :3]
+        b.L = b.L + dmomentum[:, 3:]
+
+    def _gauss_seidel(self, W, u, n, target):
+        """Impulses ``J`` (3C,): each contact's normal impulse ``λ ≥ 0`` reaches its target
+        normal velocity; its friction, capped at ``μ λ``, stops its sliding if it can."""
+        C = len(n)
+        J = np.zeros(3 * C)
+        lam = np.zeros(C)
+        blocks = [W[3 * c:3 * c + 3, 3 * c:3 * c + 3] for c in range(C)]
+        k_n = np.einsum("ci,cij,cj->c", n, np.array(blocks), n)
         for _ in range(self.iterations):
-            change, scale = 0.0, 0.0
-            for slot in work:
-                u = slot.velocity(v, w)
-                lam = np.maximum(slot.lam + (slot.target - np.sum(u * slot.n, axis=1)) / slot.k_n, 0.0)
-                slot.apply(v, w, (lam - slot.lam)[:, None] * slot.n)
-                change = max(change, float(np.max(np.abs(lam - slot.lam))))
-                slot.lam = lam
-                scale = max(scale, float(np.max(lam)))
-                if self.mu == 0:
-                    continue
-                u = slot.velocity(v, w)
-                ut = u - np.sum(u * slot.n, axis=1)[:, None] * slot.n
-                speed = np.sqrt(np.sum(ut * ut, axis=1))
-                t = ut / np.maximum(speed, 1e-300)[:, None]
-                k_t = np.where(speed > 0, np.einsum("ni,nij,nj->n", t, slot.K, t), 1.0)
-                J = slot.J - (speed / k_t)[:, None] * t
-                size = np.sqrt(np.sum(J * J, axis=1))
-                cap = self.mu * lam
-                J = J * np.where(size > cap, cap / np.maximum(size, 1e-300), 1.0)[:, None]
-                slot.apply(v, w, J - slot.J)
-                change = max(change, float(np.max(np.abs(J - slot.J))))
-                slot.J = J
-            if change <= self.converged * scale:
+            change = 0.0
+            for c in range(C):
+                s = slice(3 * c, 3 * c + 3)
+                new = max(lam[c] + (target[c] - float(u[s] @ n[c])) / k_n[c], 0.0)
+                delta = (new - lam[c]) * n[c]
+                lam[c] = new
+                if self.mu > 0:
+                    uc = u[s] + blocks[c] @ delta
+                    ut = uc - float(uc @ n[c]) * n[c]
+                    speed = float(np.sqrt(ut @ ut))
+                    Jt = J[s] - float(J[s] @ n[c]) * n[c]
+                    if speed > 0:
+                        t = ut / speed
+                        Jt = Jt - speed / float(t @ blocks[c] @ t) * t
+                    size = float(np.sqrt(Jt @ Jt))
+                    if size > self.mu * new:
+                        Jt = Jt * (self.mu * new / size)
+                    delta = delta + Jt - (J[s] - float(J[s] @ n[c]) * n[c])
+                u += W[:, s] @ delta
+                J[s] += delta
+                change = max(change, float(np.abs(delta).max()))
+            if change <= self.converged * float(np.abs(J).max()):
                 break
-        b.P = b.mass[:, None] * v
-        b.L = _mv(world_tensor(b.R, b.moments), w)
+        return J
 
 
 def _smallest(b):
@@ -214,11 +212,12 @@ class Ground(_Impulses):
 
     def __call__(self, b, dt: float, before=None):
         p, r = self.points(b)
-        gap = p @ self.normal - self.offset
-        rows = np.arange(b.n)
-        n = np.broadcast_to(-self.normal, (b.n, 3))
-        ground, none = np.full(b.n, -1), np.zeros((b.n, 3))
-        self.solve(b, [(rows, ground, r[:, k], none, n, gap[:, k]) for k in range(r.shape[1])], dt, before)
+        K = r.shape[1]
+        gap = (p @ self.normal - self.offset).ravel()
+        i = np.repeat(np.arange(b.n), K)
+        n = np.broadcast_to(-self.normal, (len(i), 3))
+        self.solve(b, i, np.full(len(i), -1), r.reshape(-1, 3), np.zeros((len(i), 3)), n, gap,
+                   dt, before)
 
     def project(self, b):
         """Lift every body that sinks deeper than :data:`ALLOWED` of its size back to that
@@ -232,8 +231,7 @@ class SpherePairs(_Impulses):
     """Contacts between the spheres of one :class:`~course_lib.rigid.body.Bodies` group.
 
     A pair takes part when its gap would close (within ``slop``, m) during the step; the
-    pairs are visited one after the other in a fixed order, as the corners of
-    :class:`Ground` are.
+    pairs are visited in a fixed order, as the corners of :class:`Ground` are.
     """
 
     def __init__(self, restitution: float = 0.5, friction: float = 0.5, iterations: int = 10,
@@ -254,9 +252,8 @@ class SpherePairs(_Impulses):
             raise ValueError(f"SpherePairs needs spheres, got shape {b.shape!r}")
         reach = self.slop + 2.0 * dt * float(np.max(np.linalg.norm(b.v, axis=1)))
         i, j, n, gap = self.pairs(b, reach)
-        self.solve(b, [(i[k:k + 1], j[k:k + 1], b.size[i[k:k + 1], None] * n[k:k + 1],
-                        -b.size[j[k:k + 1], None] * n[k:k + 1], n[k:k + 1], gap[k:k + 1])
-                       for k in range(len(i))], dt, before)
+        if len(i):
+            self.solve(b, i, j, b.size[i, None] * n, -b.size[j, None] * n, n, gap, dt, before)
 
     def project(self, b):
         """Push pairs that overlap by more than :data:`ALLOWED` of the smaller radius back
