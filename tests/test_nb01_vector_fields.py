@@ -16,6 +16,13 @@ WIND = constant_wind((7.0, 2.0))
 CLOUD = np.random.default_rng(2026).uniform(-2.0, 2.0, size=(300, 2))
 
 
+@pytest.fixture(autouse=True)
+def _first_attempt():
+    """Every test sees the first attempt's hint (the nudge): no failures carried over."""
+    for key in [k for k in check.FAILURES if k.startswith("nb01.")]:
+        del check.FAILURES[key]
+
+
 # --- Section 3: the three fields ---------------------------------------------------------
 
 
@@ -249,12 +256,13 @@ def _vortex_in_place(t, X):
         (lambda t, X: np.stack((X[..., 1], X[..., 0]), axis=-1), "a minus sign is missing"),
         (lambda t, X: np.stack((-X[..., 0], X[..., 1]), axis=-1), "not swapped"),
         (lambda t, X: np.array(X, dtype=float), "that is the radial field"),
-        (lambda t, X: np.array([-X[..., 1], X[..., 0]]), "np.stack((vx, vy), axis=-1)"),
-        (lambda t, X: np.array([-X[1], X[0]]), "not X[0] and X[1]"),
+        (lambda t, X: np.array([-X[..., 1], X[..., 0]]), "the two components go on the LAST"),
+        (lambda t, X: np.array([-X[1], X[0]]), "are the first two ROWS"),
+        (lambda t, X: np.zeros(3), "return one velocity per position"),
         (_vortex_in_place, "do not assign into X"),
         (lambda t, X: (1 + t) * _vortex_ok(t, X), "does not depend on t"),
     ],
-    ids=["clockwise", "no-minus", "not-swapped", "radial", "shape-2N", "rows", "in-place",
+    ids=["clockwise", "no-minus", "not-swapped", "radial", "shape-2N", "rows", "shape", "in-place",
          "uses-t"],
 )
 def test_vortex_field_mistakes(answer, hint, capsys):
@@ -382,7 +390,7 @@ def test_particle_frame_mistakes(answer, hint, capsys):
 def test_particle_frame_correct_and_reference(capsys):
     status, out = _run(nb01.particle_frame, _frame, capsys)
     assert status == "correct", out
-    particles, V, dt, newborn = nb01._particle_case()
+    (_, particles, V, dt, newborn), (_, crowd, V2, dt2, none) = nb01._particle_cases()
     got = nb01.particle_frame_reference(particles, V, dt, newborn)
     # Ages 0, 0.5, 1.5, 3 plus 0.5 against lifetimes 2, 1, 1.75, 4: particles 0 and 3 live
     # (particle 1 reaches its lifetime exactly), then the two newborns follow.
@@ -390,6 +398,10 @@ def test_particle_frame_correct_and_reference(capsys):
     np.testing.assert_array_equal(got["X"], [[0.5, 0.0], [-0.75, 0.75], [5.0, 5.0], [6.0, 6.0]])
     np.testing.assert_array_equal(got["lifetime"], [2.0, 4.0, 3.0, 2.5])
     assert got["colour"].shape == (4, 3)
+    # frame 2: "the 2nd, 4th and 7th expire" and they are not the first rows
+    dead = crowd["age"] + dt2 >= crowd["lifetime"]
+    assert list(np.flatnonzero(dead)) == [1, 3, 6] and none["X"].shape == (0, 2)
+    assert len(nb01.particle_frame_reference(crowd, V2, dt2, none)["age"]) == 4
 
 
 def test_checks_survive_a_crashing_answer(capsys):
@@ -429,19 +441,86 @@ def test_whirlpool_gap_grows_as_the_per_step_analysis_says():
 # --- Section 7: the flock ----------------------------------------------------------------
 
 
-def test_flock_numbers_quoted():
+@pytest.fixture(scope="module")
+def ensembles():
+    """Section 7: 16 flocks with all three rules and 16 without alignment (about 2 s)."""
     from course_lib.lessons import nb01_vector_fields as lesson
 
-    flock = lesson.run_flock(n=80, steps=600, dt=0.05)
-    alone = lesson.run_flock(n=80, steps=600, dt=0.05, weights=(1.0, 0.0, 0.6))
+    on = lesson.flock_ensemble(range(16))
+    off = lesson.flock_ensemble(range(16), weights=(1.0, 0.0, 0.6))
+    return on, off
+
+
+@pytest.mark.roundoff
+def test_flock_ensemble_quoted(ensembles):
+    """Chaotic runs are quoted as an ordering and as means with their standard error: each
+    quoted mean must lie within 3 standard errors of the measured one (a 0.3 % chance of a
+    false alarm), and the ordering must hold on every start."""
+    (curves, late), (curves_off, late_off) = ensembles
+    assert curves.shape == (16, 601) and curves_off.shape == (16, 601)
+    assert int(np.sum(late > late_off)) == 16                       # "16 times out of 16"
+    for values, quoted, quoted_se in ((late, 0.93, 0.03), (late_off, 0.14, 0.02)):
+        se = values.std(ddof=1) / math.sqrt(len(values))
+        assert abs(values.mean() - quoted) <= 3 * se, (values.mean(), se)
+        assert se == pytest.approx(quoted_se, abs=0.01)            # the "± 0.03", "± 0.02"
+    assert 0.55 <= late.min() and late.max() <= 1.0                 # "range from 0.6 to 1"
+    assert round(late.min(), 1) == 0.6
+    # "most flocks end almost perfectly aligned": more than half above 0.95 at 30 s
+    assert np.sum(curves[:, -1] > 0.95) > 8
+
+
+@pytest.mark.roundoff
+def test_flock_ordering_survives_a_last_digit_nudge():
+    """Another machine's rounding changes the last digit somewhere; a nudge of 1e-13 m to one
+    boid does the same here. The quoted ordering must not depend on it (the runs themselves
+    may: that is the point of quoting an ensemble)."""
+    from course_lib.lessons import nb01_vector_fields as lesson
+
+    def late(seed, weights):
+        flock = lesson.run_flock(weights=weights, seed=seed, nudge=1e-13)
+        return flock.polarisation[400:].mean()
+
+    on = np.array([late(s, lesson.WEIGHTS) for s in range(16)])
+    off = np.array([late(s, (1.0, 0.0, 0.6)) for s in range(16)])
+    assert int(np.sum(on > off)) == 16
+    assert abs(on.mean() - 0.93) <= 3 * on.std(ddof=1) / 4
+    assert abs(off.mean() - 0.14) <= 3 * off.std(ddof=1) / 4
+
+
+def test_first_start_and_its_snapshots(ensembles):
+    from course_lib.lessons import nb01_vector_fields as lesson
+
+    flock = lesson.run_flock(n=80, steps=600, dt=0.05, seed=0)
+    np.testing.assert_array_equal(flock.polarisation, ensembles[0][0][0])  # "the first start"
     assert flock.t[-1] == pytest.approx(30.0)
-    assert f"{flock.polarisation[0]:.2f}" == "0.08"
-    assert f"{flock.polarisation[-1]:.2f}" == "0.86"
-    assert f"{alone.polarisation[-1]:.2f}" == "0.23"
-    assert 1 / math.sqrt(80) == pytest.approx(0.11, abs=0.005)  # "about 0.1"
     speeds = np.linalg.norm(flock.V[1:], axis=-1)
     assert speeds.min() >= 0.6 - 1e-12 and speeds.max() <= 1.5 + 1e-12
     assert np.all((flock.X >= 0) & (flock.X < 10.0))
+
+
+def test_random_flock_polarisation_is_sqrt_pi_over_2_sqrt_n():
+    """The polarisation of N random headings, by Monte Carlo against √π/(2√N) (not 1/√N).
+
+    M flocks give a mean with standard error σ/√M, σ² = (4 - π)/(4N) (Rayleigh); the
+    large-N formula is off by a relative O(1/(8N)), bounded here by 1/(4N). The tolerance is
+    4 standard errors plus that bound; 1/√N lies 30 tolerances away.
+    """
+    n, m = 80, 20_000
+    angles = np.random.default_rng(7).uniform(0.0, 2 * np.pi, size=(m, n))
+    P = np.hypot(np.cos(angles).mean(axis=1), np.sin(angles).mean(axis=1))
+    theory = cl.boids.random_polarization(n)
+    assert theory == pytest.approx(math.sqrt(math.pi) / (2 * math.sqrt(n)), rel=1e-15)
+    tol = 4 * math.sqrt((4 - math.pi) / (4 * n)) / math.sqrt(m) + theory / (4 * n)
+    assert abs(P.mean() - theory) <= tol
+    assert abs(P.mean() - 1 / math.sqrt(n)) > 5 * tol
+    assert f"{theory:.3f}" == "0.099" and f"{1 / math.sqrt(n):.3f}" == "0.112"
+    # the notebook's 10 000 flocks, seeded 2026, print 0.099 on any machine: the draws are
+    # the same everywhere (PCG64), and another rounding of cos and sin moves the mean by
+    # about 1e-16, far less than its 4e-5 distance to the nearest rounding edge (0.0985)
+    headings = np.random.default_rng(2026).uniform(0.0, 2 * np.pi, size=(10_000, 80))
+    printed = np.hypot(np.cos(headings).mean(axis=1), np.sin(headings).mean(axis=1)).mean()
+    assert f"{printed:.3f}" == "0.099" and abs(printed - 0.0985) > 1e-9
+    assert abs(printed - theory) < 3 * math.sqrt((4 - math.pi) / (4 * n)) / 100
 
 
 def test_flock_rules_against_a_loop():
@@ -590,3 +669,112 @@ def test_advect_and_frame_accept_float32_and_lists(capsys):
     assert status == "correct", out
     status, out = _run(nb01.advect_step, lambda X, V, dt: (X + dt * V).tolist(), capsys)
     assert status == "correct", out
+
+
+# --- planted answers: one delegating call, one shortcut the data breaks, one misconception --
+
+
+def planted(source: str, name: str):
+    """A function defined as a notebook cell defines it (module ``__main__``), so that the
+    checks read its bytecode and watch its calls exactly as in a student's kernel."""
+    namespace = {"__name__": "__main__", "np": np, "cl": cl}
+    exec(compile(source, "<cell>", "exec"), namespace)
+    return namespace[name]
+
+
+#: (exercise, kind, source, verdict, what the first failure's hint (or message) must say)
+PLANTED = [
+    ("vortex_field", "delegating", "def vortex_field(t, X):\n    return cl.fields.vortex(t, X)",
+     "incorrect", "uses the reference: your function calls course_lib.fields.vortex"),
+    ("vortex_field", "shortcut: one particle only",
+     "def vortex_field(t, X):\n    return np.array([-X[1], X[0]])",
+     "incorrect", "X[0] and X[1] are the first two ROWS (particles)"),
+    ("vortex_field", "misconception: clockwise",
+     "def vortex_field(t, X):\n    return np.stack((X[..., 1], -X[..., 0]), axis=-1)",
+     "incorrect", "that is the clockwise vortex"),
+    ("whirlpool", "delegating: compose and scaled build the answer",
+     "def whirlpool(t, X, k=0.5):\n"
+     "    return cl.fields.compose(cl.fields.vortex, cl.fields.scaled(cl.fields.radial, -k))(t, X)",
+     "incorrect", "uses the reference: your function calls course_lib.fields.compose"),
+    ("whirlpool", "the building blocks the prompt hands over",
+     "def whirlpool(t, X, k=0.5):\n    return cl.fields.vortex(t, X) - k * cl.fields.radial(t, X)",
+     "correct", ""),
+    ("whirlpool", "shortcut: k = 0.5 built in",
+     "def whirlpool(t, X, k=0.5):\n    X = np.asarray(X, float)\n"
+     "    return np.stack((-X[..., 1], X[..., 0]), -1) - 0.5 * X",
+     "incorrect", "use the argument k"),
+    ("whirlpool", "misconception: the pull points out",
+     "def whirlpool(t, X, k=0.5):\n    X = np.asarray(X, float)\n"
+     "    return np.stack((-X[..., 1], X[..., 0]), -1) + k * X",
+     "incorrect", "the pull points outwards"),
+    ("advect_step", "delegating: a library step",
+     "def advect_step(X, V, dt):\n    return cl.forward_euler(lambda t, y: V, 0.0, X, dt)",
+     "incorrect", "uses the reference: your function calls course_lib.steppers.forward_euler"),
+    ("advect_step", "shortcut: written for one particle",
+     "def advect_step(X, V, dt):\n    return np.array([X[0] + dt * V[0], X[1] + dt * V[1]])",
+     "incorrect", "X[0] and X[1] are the first two PARTICLES"),
+    ("advect_step", "misconception: against the velocity",
+     "def advect_step(X, V, dt):\n    return X - dt * V",
+     "incorrect", "you moved against the velocity"),
+    ("particle_frame", "delegating: the checks' own reference",
+     "from course_lib.check.nb01 import particle_frame_reference\n"
+     "def particle_frame(particles, V, dt, newborn):\n"
+     "    return particle_frame_reference(particles, V, dt, newborn)",
+     "incorrect", "uses the reference: your function calls "
+     "course_lib.check.nb01.particle_frame_reference"),
+    ("particle_frame", "shortcut: the expired are the first rows (a queue)",
+     "def particle_frame(particles, V, dt, newborn):\n"
+     "    age = particles['age'] + dt\n"
+     "    dead = int(np.sum(age >= particles['lifetime']))\n"
+     "    new = dict(particles, X=particles['X'] + dt * V, age=age)\n"
+     "    return {k: np.concatenate([new[k][dead:], newborn[k]]) for k in new}",
+     "incorrect", "the expired particles are not always the first rows"),
+    ("particle_frame", "misconception: age <= lifetime survives",
+     "def particle_frame(particles, V, dt, newborn):\n"
+     "    new = dict(particles, X=particles['X'] + dt * V, age=particles['age'] + dt)\n"
+     "    alive = new['age'] <= new['lifetime']\n"
+     "    return {k: np.concatenate([new[k][alive], newborn[k]]) for k in new}",
+     "incorrect", "keep age < lifetime"),
+    ("cohesion", "delegating: notebook 10's neighbour search",
+     "def cohesion(X, radius):\n"
+     "    rules = cl.boids.Rules(radius=radius, view_angle=2 * np.pi)\n"
+     "    i, j, d = cl.boids.all_pairs(X, np.ones_like(X), rules)\n"
+     "    out = np.zeros_like(X)\n    np.add.at(out, i, d)\n"
+     "    return out / np.maximum(np.bincount(i, minlength=len(X)), 1)[:, None]",
+     "incorrect", "uses the reference: your function calls course_lib.boids"),
+    ("cohesion", "shortcut: the centre of the whole flock",
+     "def cohesion(X, radius):\n    return X.mean(axis=0) - X",
+     "incorrect", "not of the whole flock"),
+    ("cohesion", "misconception: a boid is its own neighbour",
+     "def cohesion(X, radius):\n    D = X[None] - X[:, None]\n"
+     "    near = np.sum(D**2, axis=-1) < radius**2\n"
+     "    return (near[..., None] * D).sum(1) / near.sum(1, keepdims=True)",
+     "incorrect", "a boid is not its own neighbour"),
+]
+
+
+@pytest.mark.parametrize(("exercise", "kind", "source", "status", "says"), PLANTED,
+                         ids=[f"{p[0]}: {p[1]}" for p in PLANTED])
+def test_planted_answers(exercise, kind, source, status, says):
+    verdict = check.evaluate(getattr(nb01, exercise), planted(source, exercise))
+    assert verdict["status"] == status, (kind, verdict["failed_cases"])
+    assert says in "\n".join(verdict["failed_cases"]), (kind, verdict["failed_cases"])
+
+
+def test_every_exercise_has_its_three_plants():
+    kinds = {}
+    for exercise, kind, *_ in PLANTED:
+        kinds.setdefault(exercise, set()).add(kind.split(":")[0])
+    assert set(kinds) == {k.split(".")[1] for k in check.REGISTRY if k.startswith("nb01.")}
+    for exercise, found in kinds.items():
+        assert {"delegating", "shortcut", "misconception"} <= found, exercise
+
+
+def test_hints_escalate_from_a_nudge():
+    """A second wrong attempt in the same kernel shows the fuller hint, the grader the nudge."""
+    wrong = planted("def advect_step(X, V, dt):\n    return X + 2 * dt * V", "advect_step")
+    first = "\n".join(check.evaluate(nb01.advect_step, wrong)["failed_cases"])
+    assert "moves along its own velocity" in first and "X + dt * V" not in first
+    check.FAILURES["nb01.advect_step"] = 1
+    second = "\n".join(check.evaluate(nb01.advect_step, wrong)["failed_cases"])
+    assert "the new position is X + dt * V" in second

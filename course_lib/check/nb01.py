@@ -19,15 +19,19 @@ from . import Checker, exercise
 from ._answers import as_array, call, rtol_for
 from ._answers import close as _close
 from ._answers import mistake_hint as _mistake_hint
+from ._nb01_cases import frame_mistakes as _frame_mistakes
+from ._nb01_cases import particle_cases as _particle_cases
 
 _RNG_SEED = 2026
 
 # Hints shared by the field exercises.
 _SHAPE_HINT = (
+    "return one velocity per position, an array of X's shape",
     "return one velocity per position, an array of X's shape: take the columns with "
-    "X[..., 0] and X[..., 1] (not X[0] and X[1], which are rows when X is (N, 2)) and "
-    "join them with np.stack((vx, vy), axis=-1)"
+    "X[..., 0] and X[..., 1] and join them with np.stack((vx, vy), axis=-1)",
 )
+_ROWS_HINT = ("X[0] and X[1] are the first two ROWS (particles) when X has shape (N, 2): "
+              "take the columns, X[..., 0] and X[..., 1]")
 
 
 def _points() -> list[tuple[str, np.ndarray]]:
@@ -48,6 +52,12 @@ def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=
     untouched = True
     for what, X in (_points() if points is None else points):
         expected, mistakes = reference(0.0, X.copy()), mistakes_of(X.copy())
+        if X.ndim > 1:
+            mistakes[_ROWS_HINT] = reference(0.0, X[:2].T.copy()).T
+        mistakes[("the two components go on the LAST axis of the result, as in X",
+                  "the two components go on the LAST axis of the result, as in X: "
+                  "np.stack((vx, vy), axis=-1), not np.array([vx, vy])")] = np.moveaxis(
+            expected, -1, 0)
         X_student = X.copy()
         ok, got = call(ck, f"{name} at {what}", answer, 0.0, X_student)
         untouched = untouched and np.array_equal(X_student, X)
@@ -73,7 +83,7 @@ def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=
                    if right_at_0 else formula)
 
 
-@exercise
+@exercise(allow=())
 def vortex_field(ck: Checker, vortex_field) -> None:
     """The rotational vortex V = (-y, x), compared with ``course_lib.fields.vortex``."""
 
@@ -97,9 +107,12 @@ def whirlpool_reference(t: float, X, k: float = 0.5) -> np.ndarray:
     return fields.compose(fields.vortex, fields.scaled(fields.radial, -k))(t, X)
 
 
-@exercise(allow=("course_lib.fields.vortex",))
+@exercise(allow=("course_lib.fields.vortex", "course_lib.fields.radial"))
 def whirlpool(ck: Checker, whirlpool) -> None:
-    """The whirlpool V = (-y, x) - k (x, y), against ``compose(vortex, scaled(radial, -k))``."""
+    """The whirlpool V = (-y, x) - k (x, y), against ``compose(vortex, scaled(radial, -k))``.
+
+    The prompt hands over the vortex and the radial field; ``compose`` and ``scaled`` would
+    build the answer, so they count as the reference."""
     for k, points in ((0.5, None), (2.0, _points()[3:4])):
 
         def reference(t, X, k=k):
@@ -126,7 +139,7 @@ def whirlpool(ck: Checker, whirlpool) -> None:
                      formula="V = (-y, x) - k (x, y), that is (-y - k x, x - k y)")
 
 
-@exercise
+@exercise(allow=())
 def advect_step(ck: Checker, advect_step) -> None:
     """One step ``X + dt V``: the worked example X = (1, 2), V = (-1, -1), dt = 0.5."""
     rng = np.random.default_rng(_RNG_SEED)
@@ -145,7 +158,10 @@ def advect_step(ck: Checker, advect_step) -> None:
         ok, got = call(ck, what, advect_step, X_student, V_student, dt)
         if not ok:
             continue
+        by_rows = np.array([X[0] + dt * V[0], X[1] + dt * V[1]]) if X.ndim == 2 else None
         _close(ck, got, expected, what, mistakes={
+            **({"X[0] and X[1] are the first two PARTICLES when X has shape (N, 2): update the "
+                "whole arrays at once, without indexing": by_rows} if by_rows is not None else {}),
             "you moved against the velocity: the new position is X + dt V, not X - dt V":
                 X - dt * V,
             "dt is missing (or taken as 1): in dt seconds a particle moves dt * V, "
@@ -153,7 +169,8 @@ def advect_step(ck: Checker, advect_step) -> None:
             "you returned the displacement dt V; return the new position X + dt V": dt * V,
             "you used dt / 2: a step of dt moves the particle by the whole dt * V":
                 X + 0.5 * dt * V,
-        }, hint="the new position is X + dt * V")
+        }, hint=("in dt seconds each particle moves along its own velocity",
+                 "the new position is X + dt * V"))
         ck.expect(
             np.array_equal(X_student, X) and np.array_equal(V_student, V),
             f"advect_step leaves X and V unchanged ({what})",
@@ -172,30 +189,17 @@ def particle_frame_reference(particles: dict, V, dt: float, newborn: dict) -> di
             for key in moved}
 
 
-def _particle_case():
-    particles = {
-        "X": np.array([[0.0, 0.0], [1.0, 1.0], [2.0, -1.0], [-1.0, 0.5]]),
-        "age": np.array([0.0, 0.5, 1.5, 3.0]),
-        "lifetime": np.array([2.0, 1.0, 1.75, 4.0]),
-        "colour": np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.5, 0.5, 0.5]]),
-    }
-    V = np.array([[1.0, 0.0], [0.0, 2.0], [-1.0, -1.0], [0.5, 0.5]])
-    newborn = {
-        "X": np.array([[5.0, 5.0], [6.0, 6.0]]),
-        "age": np.zeros(2),
-        "lifetime": np.array([3.0, 2.5]),
-        "colour": np.array([[0.2, 0.4, 0.6], [0.8, 0.6, 0.4]]),
-    }
-    return particles, V, 0.5, newborn
-
-
-@exercise
+@exercise(allow=())
 def particle_frame(ck: Checker, particle_frame) -> None:
     """One frame of a particle system: move and age, delete the expired, append newborns."""
-    particles, V, dt, newborn = _particle_case()
+    for what, particles, V, dt, newborn in _particle_cases():
+        _one_frame(ck, particle_frame, what, particles, V, dt, newborn)
+
+
+def _one_frame(ck: Checker, particle_frame, what, particles, V, dt, newborn) -> None:
     expected = particle_frame_reference(particles, V, dt, newborn)
     given = {key: val.copy() for key, val in particles.items()}
-    ok, got = call(ck, "particle_frame runs", particle_frame, given, V.copy(), dt,
+    ok, got = call(ck, f"particle_frame runs ({what})", particle_frame, given, V.copy(), dt,
                    {key: val.copy() for key, val in newborn.items()})
     if not ok:
         return
@@ -204,46 +208,26 @@ def particle_frame(ck: Checker, particle_frame) -> None:
                   f"got {type(got).__name__}", "return a dict with the same keys as particles")
         return
     missing = sorted(set(expected) - set(got))
-    ck.expect(not missing, "every attribute is kept (X, age, lifetime and colour)",
+    ck.expect(not missing, f"{what}: every attribute is kept (X, age, lifetime and colour)",
               f"missing keys {missing}",
-              "build the result from every key of particles, not only X, age and lifetime "
-              "(e.g. {key: ... for key in particles})")
-
-    # What the usual mistakes produce, frame by frame.
-    n = len(particles["age"])
-
-    def variant(age_new, alive, move=True):
-        X = particles["X"] + (dt * V if move else 0.0)
-        return {
-            "X": np.concatenate([X[alive], newborn["X"]]),
-            "age": np.concatenate([age_new[alive], newborn["age"]]),
-        }
-
-    aged = particles["age"] + dt
-    life = particles["lifetime"]
-    mistakes = {
-        "a particle dies when its age reaches its lifetime: keep age < lifetime, "
-        "so one whose age equals its lifetime is deleted": variant(aged, aged <= life),
-        "no particle was deleted: after ageing, delete every particle whose new age "
-        "has reached its lifetime (age >= lifetime)": variant(aged, np.ones(n, dtype=bool)),
-        "age every particle by dt this frame (age + dt), then compare with the lifetime":
-            variant(particles["age"], particles["age"] < life),
-        "move every surviving particle by dt * V": variant(aged, aged < life, move=False),
-    }
+              ("build the result from every key of particles, not only X, age and lifetime",
+               "build the result from every key of particles, not only X, age and lifetime "
+               "(e.g. {key: ... for key in particles})"))
+    mistakes = _frame_mistakes(particles, V, dt, newborn)
     for key, unit in (("X", "positions"), ("age", "ages")):
         if key not in got:
             continue
         hint = _mistake_hint(got[key], {h: m[key] for h, m in mistakes.items()},
                              "update, then delete, then create: survivors first, newborns "
                              "appended at the end")
-        _close(ck, got[key], expected[key], f"the {unit} after one frame (dt = 0.5 s)", hint=hint)
+        _close(ck, got[key], expected[key], f"{what}: the {unit}", hint=hint)
     for key in ("lifetime", "colour"):
         if key in got:
-            _close(ck, got[key], expected[key], f"the {key} of the survivors and the newborns",
-                     hint="every attribute must be filtered with the same alive mask "
-                          "and then extended with the newborns'")
+            _close(ck, got[key], expected[key], f"{what}: the {key} of the survivors and the "
+                   "newborns", hint="every attribute must be filtered with the same alive "
+                   "mask and then extended with the newborns'")
     ck.expect(all(np.array_equal(particles[k], given[k]) for k in particles),
-              "particle_frame leaves its input unchanged",
+              f"{what}: particle_frame leaves its input unchanged",
               "your function modified the particles dict it was given",
               "build and return a new dict")
 
@@ -273,13 +257,14 @@ def _cohesion_cases():
     ]
 
 
-@exercise
+@exercise(allow=())
 def cohesion(ck: Checker, cohesion) -> None:
     """``cohesion(X, radius)``: vector to the local centre of the neighbours, vectorised."""
     for what, X, radius in _cohesion_cases():
         expected = cohesion_reference(X, radius)
         D = X[None, :, :] - X[:, None, :]
-        within = np.einsum("ijk,ijk->ij", D, D) < radius**2   # includes the boid itself
+        dist2 = np.einsum("ijk,ijk->ij", D, D)
+        within = dist2 < radius**2                          # includes the boid itself
         others = within & ~np.eye(len(X), dtype=bool)
         count = others.sum(axis=1, keepdims=True)
         with np.errstate(invalid="ignore", divide="ignore"):
@@ -291,6 +276,8 @@ def cohesion(ck: Checker, cohesion) -> None:
                 "the pull points away from the neighbours: it is centre - X_i": -expected,
                 "average over the neighbours only: divide by their number, not by N":
                     np.einsum("ij,ijk->ik", others, D) / len(X),
+                ("the centre is the mean of the NEIGHBOURS within the radius, not of the whole "
+                 "flock"): X.mean(axis=0) - X,
             }
         X_student = X.copy()
         ok, got = call(ck, what, cohesion, X_student, radius)
@@ -302,8 +289,10 @@ def cohesion(ck: Checker, cohesion) -> None:
                       "a boid with no neighbour has no pull: return 0 for it (your mean divided "
                       "0 by 0)")
             continue
-        hint = _mistake_hint(got, mistakes, "for each boid i: the mean of X_j - X_i over the other "
-                             "boids j with |X_j - X_i| < radius, and 0 if there is none")
+        hint = _mistake_hint(got, mistakes, (
+            "for each boid: the mean offset to its neighbours, and 0 without one",
+            "for each boid i: the mean of X_j - X_i over the other boids j with "
+            "|X_j - X_i| < radius, and 0 if there is none"))
         # Offsets between positions of up to 10 m: 10 µm is far below anything a flock
         # shows, and admits an answer computed in float32 anywhere along the way.
         _close(ck, got, expected, what, hint=hint, rtol=1e-6, atol=1e-5)

@@ -1,0 +1,69 @@
+"""Case data of notebook 01's particle-frame check (:func:`course_lib.check.nb01.particle_frame`).
+
+:func:`particle_cases` holds the frames the check runs (one made by hand, one whose expired
+particles are not the first rows, so that deleting from the front of a queue fails), and
+:func:`frame_mistakes` what the usual mistakes make of one frame, each keyed by its hint.
+Imports NumPy only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+_RNG_SEED = 2026
+
+
+def particle_cases() -> list:
+    """Two frames: a hand-made one (one particle reaches its lifetime exactly), and one whose
+    expired particles are not the first rows (a queue that deletes from the front fails it),
+    with no newborns."""
+    particles = {
+        "X": np.array([[0.0, 0.0], [1.0, 1.0], [2.0, -1.0], [-1.0, 0.5]]),
+        "age": np.array([0.0, 0.5, 1.5, 3.0]),
+        "lifetime": np.array([2.0, 1.0, 1.75, 4.0]),
+        "colour": np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.5, 0.5, 0.5]]),
+    }
+    V = np.array([[1.0, 0.0], [0.0, 2.0], [-1.0, -1.0], [0.5, 0.5]])
+    newborn = {
+        "X": np.array([[5.0, 5.0], [6.0, 6.0]]),
+        "age": np.zeros(2),
+        "lifetime": np.array([3.0, 2.5]),
+        "colour": np.array([[0.2, 0.4, 0.6], [0.8, 0.6, 0.4]]),
+    }
+    rng = np.random.default_rng(_RNG_SEED)
+    crowd = {
+        "X": rng.uniform(-3.0, 3.0, size=(7, 2)),
+        "age": np.array([2.9, 0.1, 1.0, 0.4, 4.0, 0.0, 2.3]),
+        "lifetime": np.array([5.0, 0.3, 3.0, 0.6, 9.0, 1.0, 2.5]),
+        "colour": rng.uniform(0.0, 1.0, size=(7, 3)),
+    }
+    none = {"X": np.zeros((0, 2)), "age": np.zeros(0), "lifetime": np.zeros(0),
+            "colour": np.zeros((0, 3))}
+    return [("frame 1 (4 particles, 2 newborns, dt = 0.5 s)", particles, V, 0.5, newborn),
+            ("frame 2 (7 particles, the 2nd, 4th and 7th expire, none born, dt = 0.25 s)",
+             crowd, rng.uniform(-1.0, 1.0, size=(7, 2)), 0.25, none)]
+
+
+def frame_mistakes(particles, V, dt, newborn) -> dict:
+    """What the usual mistakes make of the positions and ages in one frame."""
+    n = len(particles["age"])
+
+    def variant(age_new, alive, move=True):
+        X = particles["X"] + (dt * V if move else 0.0)
+        return {"X": np.concatenate([X[alive], newborn["X"]]),
+                "age": np.concatenate([age_new[alive], newborn["age"]])}
+
+    aged = particles["age"] + dt
+    life = particles["lifetime"]
+    front = np.arange(n) >= int(np.sum(aged >= life))  # delete as many rows, from the front
+    return {
+        ("a particle dies when its age reaches its lifetime: keep age < lifetime, "
+         "so one whose age equals its lifetime is deleted"): variant(aged, aged <= life),
+        ("no particle was deleted: after ageing, delete every particle whose new age "
+         "has reached its lifetime (age >= lifetime)"): variant(aged, np.ones(n, dtype=bool)),
+        "age every particle by dt this frame (age + dt), then compare with the lifetime":
+            variant(particles["age"], particles["age"] < life),
+        "move every surviving particle by dt * V": variant(aged, aged < life, move=False),
+        ("the expired particles are not always the first rows (lifetimes differ): select the "
+         "survivors with a boolean mask, age < lifetime, row by row"): variant(aged, front),
+    }
