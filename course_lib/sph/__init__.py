@@ -2,18 +2,21 @@
 
 - :mod:`~course_lib.sph.kernels`: :data:`KERNELS` (cubic spline, poly6, spiky), name ->
   ``W(r, h, dim)`` in 1/m^dim, and their derivatives :data:`GRADIENTS`;
-- :mod:`~course_lib.sph.density`: pairs from a k-d tree, density by summation;
+- :mod:`~course_lib.sph.density`: pairs from the shared k-d tree search
+  (:func:`course_lib.neighbors.pairs`), density by summation;
 - :mod:`~course_lib.sph.forces`: Tait's equation of state, symmetric pressure and
   viscosity forces;
 - :mod:`~course_lib.sph.boundary`: walls of particles (Akinci et al. 2012);
+- :mod:`~course_lib.sph.params`: :class:`Params`, the liquid and its solvers' settings;
 - :mod:`~course_lib.sph.wcsph` (Becker & Teschner 2007) and :mod:`~course_lib.sph.iisph`
-  (Ihmsen et al. 2014): one step each, at its CFL step;
+  (Ihmsen et al. 2014): one step each, at its CFL step; :mod:`~course_lib.sph.operators`,
+  IISPH's pressure operators as sparse matrices;
 - :mod:`~course_lib.sph.simulation`: :class:`Simulation` (state, frames, statistics);
 - :mod:`~course_lib.sph.scenes`: the water column, the dam break and
   :func:`dam_break` -> ``(T, Z)`` against :data:`MARTIN_MOYCE`.
 """
 
-from . import boundary, density, forces, iisph, kernels, scenes, wcsph
+from . import boundary, density, forces, iisph, kernels, operators, params, scenes, wcsph
 from .boundary import Boundary
 from .kernels import GRADIENTS, KERNELS, SUPPORT
 from .params import Params
@@ -22,4 +25,5 @@ from .simulation import METHODS, Frames, Simulation
 
 __all__ = ["GRADIENTS", "KERNELS", "MARTIN_MOYCE", "METHODS", "SUPPORT", "Boundary", "Frames",
            "Params", "Simulation", "boundary", "dam_break", "dam_break_simulation", "density",
-           "forces", "iisph", "kernels", "ritter_front", "scenes", "water_column", "wcsph"]
+           "forces", "iisph", "kernels", "operators", "params", "ritter_front", "scenes",
+           "water_column", "wcsph"]
