@@ -31,6 +31,8 @@ def pytest_addoption(parser):
     parser.addoption("--nbval-rerun", action="append", default=[], metavar="DIR",
                      help="after nbval's Run All of each notebook under DIR, re-run its "
                           "cells bottom to top and in a seeded random order")
+    parser.addoption("--nbval-rerun-orders", default="reverse,random", metavar="ORDERS",
+                     help="which re-runs, comma-separated: reverse, random (default both)")
 
 
 def rerun_cells(nb) -> list[tuple[int, str]]:
@@ -41,11 +43,18 @@ def rerun_cells(nb) -> list[tuple[int, str]]:
             and not any(marker in c.source for marker in EXPECTED_TO_RAISE)]
 
 
-def rerun_orders(cells: list, seed: int = RERUN_SEED) -> list[tuple[str, list]]:
-    """The two passes after Run All: bottom to top, then a seeded shuffle."""
+def rerun_orders(cells: list, seed: int = RERUN_SEED,
+                 wanted=("reverse", "random")) -> list[tuple[str, list]]:
+    """The passes after Run All: bottom to top, then a seeded shuffle (those ``wanted``)."""
     shuffled = list(cells)
     random.Random(seed).shuffle(shuffled)
-    return [("reverse order", cells[::-1]), (f"random order (seed {seed})", shuffled)]
+    orders = {"reverse": ("reverse order", cells[::-1]),
+              "random": (f"random order (seed {seed})", shuffled)}
+    unknown = set(wanted) - set(orders)
+    if unknown:
+        raise ValueError(f"--nbval-rerun-orders: unknown {sorted(unknown)}; choose from "
+                         f"{sorted(orders)}")
+    return [orders[w] for w in wanted]
 
 
 def _first_line(source: str) -> str:
@@ -62,7 +71,8 @@ class RerunItem(pytest.Item):
         kernel = nbfile.kernel
         timeout = self.config.option.nbval_cell_timeout
         failures = []
-        for name, order in rerun_orders(rerun_cells(nbfile.nb)):
+        wanted = self.config.getoption("nbval_rerun_orders").split(",")
+        for name, order in rerun_orders(rerun_cells(nbfile.nb), wanted=wanted):
             for index, source in order:
                 msg_id = kernel.execute_cell_input(source, allow_stdin=False)
                 reply = _reply(kernel, msg_id, timeout)

@@ -75,3 +75,10 @@ def test_a_cell_broken_by_a_later_cell_fails_the_rerun():
 def test_make_test_reruns_the_solutions():
     makefile = (ROOT / "Makefile").read_text()
     assert "--nbval-rerun=solutions" in makefile
+
+
+def test_the_orders_can_be_chosen_and_unknown_ones_are_named():
+    cells = [(0, "a"), (1, "b"), (2, "c")]
+    assert [name for name, _ in rerun_orders(cells, wanted=["reverse"])] == ["reverse order"]
+    with pytest.raises(ValueError, match="unknown.*'sideways'.*'random', 'reverse'"):
+        rerun_orders(cells, wanted=["sideways"])
