@@ -80,5 +80,5 @@ def test_make_test_reruns_the_solutions():
 def test_the_orders_can_be_chosen_and_unknown_ones_are_named():
     cells = [(0, "a"), (1, "b"), (2, "c")]
     assert [name for name, _ in rerun_orders(cells, wanted=["reverse"])] == ["reverse order"]
-    with pytest.raises(ValueError, match="unknown.*'sideways'.*'random', 'reverse'"):
+    with pytest.raises(ValueError, match=r"unknown.*'sideways'.*'random', 'reverse'"):
         rerun_orders(cells, wanted=["sideways"])
