@@ -11,9 +11,10 @@ For springs ``-∂F/∂v`` and the elastic ``-∂F/∂x`` are symmetric positive
 drop, as they do, the non-symmetric derivative of the damping force with respect to
 positions, and with ``definite=True`` the negative geometric stiffness of compressed
 springs), so the matrix is symmetric positive definite and conjugate gradients
-(``scipy.sparse.linalg.cg``) solve it. We never assemble it: per spring, with
-``w = p_i - p_j``, the product is ``A p = M p + Dᵀ[β w + γ (w·d) d]`` (see
-:mod:`course_lib.springs.jacobian` for the blocks), a few whole-array operations.
+(``scipy.sparse.linalg.cg``) solve it. We never assemble it: the network linearized
+at the start of the step (:meth:`SpringNetwork.linearize
+<course_lib.springs.network.SpringNetwork.linearize>`) gives the force and the products
+``h² K p + h C p`` with a few whole-array operations each.
 
 Pinned particles are handled exactly as in the paper's "filtered" solve: with ``S`` the
 projection that zeroes pinned particles, we solve ``(S A S + I - S) Δv = S b``, so
@@ -21,8 +22,12 @@ projection that zeroes pinned particles, we solve ``(S A S + I - S) Δv = S b``,
 rest never moves. On a linear force (a zero-rest-length spring, or motion along a fixed
 spring) the step is backward Euler's, exactly.
 
-Core module: imports NumPy, SciPy, :mod:`course_lib._validate` and
-:mod:`course_lib.springs`.
+Every state and step is checked before any work (shape, finiteness), so a NaN state
+fails at once instead of spending CG iterations (:class:`~course_lib.largestep.base.
+SpringSolver`).
+
+Core module: imports NumPy, SciPy, :mod:`course_lib._validate`, :mod:`course_lib.springs`
+and :mod:`course_lib.largestep.base`.
 """
 
 from __future__ import annotations
@@ -34,8 +39,8 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from . import _validate
+from .largestep.base import SpringSolver
 from .springs import SpringNetwork
-from .springs.network import sum_rows
 
 
 @dataclass
@@ -57,7 +62,7 @@ class StepInfo:
     converged: bool
 
 
-class BaraffWitkin:
+class BaraffWitkin(SpringSolver):
     """Baraff–Witkin implicit Euler for a spring network plus constant forces.
 
     Parameters
@@ -98,77 +103,15 @@ class BaraffWitkin:
     def __init__(self, network: SpringNetwork, mass, *, pinned=None, gravity=None,
                  external: Callable | None = None, rtol: float = 1e-6, maxiter: int | None = None,
                  definite: bool = True, warm_start: bool = True, check: bool = True):
-        if not isinstance(network, SpringNetwork):
-            raise TypeError(f"network must be a SpringNetwork, got {type(network).__name__}")
-        self.network = network
-        n = network.n_particles
-        m = _validate.state_array("mass", mass)
-        if m.ndim > 1 or (m.ndim == 1 and m.shape != (n,)) or np.any(m <= 0):
-            raise ValueError(f"mass must be > 0, a scalar or one per particle ({n})")
-        self.mass = np.broadcast_to(m, (n,)).astype(float)
-        pinned = np.asarray([] if pinned is None else pinned)
-        if pinned.size and (not np.issubdtype(pinned.dtype, np.integer)
-                            or pinned.min() < 0 or pinned.max() >= n):
-            raise ValueError(f"pinned must hold particle indices in [0, {n})")
-        self.pinned = np.unique(pinned.astype(np.intp))
-        self.gravity = None if gravity is None else _validate.state_array("gravity", gravity)
-        if external is not None:
-            _validate.callable_arg("external", external)
-        self.external = external
+        super().__init__(network, mass, pinned=pinned, gravity=gravity, external=external)
         self.rtol = _validate.positive_finite("rtol", rtol)
-        self.maxiter = maxiter
+        self.maxiter = None if maxiter is None else _validate.positive_int("maxiter", maxiter)
         self.definite = bool(definite)
         self.warm_start = bool(warm_start)
         self.check = bool(check)
         self.info: StepInfo | None = None
         self._history: list = []                   # (dt, Δv) of the last two steps
         self._t = 0.0
-        self._d: np.ndarray | None = None
-
-    # --- the linear system ------------------------------------------------------------
-
-    def _coefficients(self, x, v, h: float):
-        """Force at the start, and the per-slot factors ``β, γ`` of the matrix."""
-        net = self.network
-        d, inv, a = net.slot_coefficients(x, v)   # per slot of net.layout, d is (dim, S)
-        if self._d is None or self._d.shape != d.shape:
-            self._d, self._w, self._prod = np.empty_like(d), np.empty_like(d), np.empty_like(d)
-            self._along = np.empty(d.shape[1])
-        np.copyto(self._d, d)                      # the network's work arrays get reused
-        force = -net.slot_sums(np.multiply(a, d, out=self._w))
-        stretch = 1.0 - net.slot_rest * inv        # (1 - L/ℓ); 1 where the ends coincide
-        if self.definite:
-            np.maximum(stretch, 0.0, out=stretch)
-        geometric = net.slot_k * stretch           # stiffness across the spring
-        along = net.slot_k - geometric             # extra stiffness along it: k L/ℓ
-        inv2 = inv * inv
-        self._beta = h * h * geometric
-        self._gamma = (h * net.slot_c + h * h * along) * inv2
-        self._gamma_x = h * h * along * inv2       # the ∂F/∂x part alone, for the right side
-        return force
-
-    def _springs_apply(self, p: np.ndarray, gamma: np.ndarray) -> np.ndarray:
-        """``Dᵀ[β w + γ (w·d) d]`` with ``w = p_lo - p_hi``: the springs' part of ``A p``."""
-        w = self.network.slot_differences(p, out=self._w)   # (dim, S)
-        np.multiply(w, self._d, out=self._prod)
-        sum_rows(self._prod, out=self._along)     # w·d
-        self._along *= gamma
-        w *= self._beta
-        w += np.multiply(self._d, self._along, out=self._prod)
-        return self.network.slot_sums(w)
-
-    def _per_particle(self, dim: int):
-        """``(N, dim)`` copies of the masses and of the gravity force (contiguous, so that
-        no operation broadcasts along rows of length ``dim``)."""
-        if getattr(self, "_dim", None) != dim:
-            if self.gravity is not None and self.gravity.shape != (dim,):
-                raise ValueError(f"gravity must have shape ({dim},) like the positions' last "
-                                 f"axis, got {self.gravity.shape}")
-            self._dim = dim
-            self._mass = np.repeat(self.mass, dim).reshape(-1, dim)
-            g = np.zeros(dim) if self.gravity is None else self.gravity
-            self._weight = self._mass * g
-        return self._mass, self._weight
 
     def system(self, x, v, dt: float):
         """The filtered system of one step at ``(x, v)``: ``(A, b, diagonal)``.
@@ -176,17 +119,15 @@ class BaraffWitkin:
         ``A`` is a ``scipy.sparse.linalg.LinearOperator`` of size ``N d``, ``b`` the right
         side (flat), ``diagonal`` the diagonal of ``A`` (for the Jacobi preconditioner).
         """
-        x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
+        x, v = self.check_state(x, v)
         n, dim = x.shape
         h = _validate.positive_finite("dt", dt)
-        mass, weight = self._per_particle(dim)
-        force = self._coefficients(x, v, h)
-        force += weight
-        if self.external is not None:
-            force += self.external(self._t, x, v)
+        lin = self.network.linearize(x, v, definite=self.definite)
+        force = lin.force + self.external_force(self._t, x, v)
+        mass = np.repeat(self.mass, dim).reshape(n, dim)
         pinned = self.pinned
-        # b = h F0 + h² ∂F/∂x v0, and ∂F/∂x v0 = -Dᵀ[β' w + γ' (w·d) d] with w = D v0.
-        b = h * force - self._springs_apply(v, self._gamma_x)
+        # b = h F0 + h² ∂F/∂x v0 = h F0 - h² K v0
+        b = h * force - lin.product(v, stiffness=h * h)
         b[pinned] = 0.0                            # S b
 
         def matvec(p_flat):
@@ -194,28 +135,22 @@ class BaraffWitkin:
             if pinned.size:
                 p, kept = p.copy(), p[pinned]
                 p[pinned] = 0.0                    # S p
-            out = self._springs_apply(p, self._gamma)
+            out = lin.product(p, stiffness=h * h, damping=h)
             out += mass * p
             if pinned.size:
                 out[pinned] = kept                 # S A S p + (I - S) p
             return out.ravel()
 
-        along = np.multiply(self._d, self._d, out=self._prod)
-        along *= self._gamma
-        along += self._beta
-        diagonal = mass + self.network.slot_sums(along, same_sign=True)
+        diagonal = mass + lin.diagonal(stiffness=h * h, damping=h)
         diagonal[pinned] = 1.0
         A = spla.LinearOperator((n * dim, n * dim), matvec=matvec, dtype=float)
         return A, b.ravel(), diagonal.ravel()
 
-    # --- one step -------------------------------------------------------------------------
-
     def step(self, x, v, dt: float, t: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """One implicit step of length ``dt`` (s) from positions ``x`` and velocities ``v``
-        (both ``(N, d)``); returns the new ``(x, v)`` and records :attr:`info`."""
+        (both ``(N, d)``, finite); returns the new ``(x, v)`` and records :attr:`info`."""
         self._t = _validate.finite_real("t", t)
-        x = self.network._check("x", x)
-        v = self.network._check("v", v)
+        x, v = self.check_state(x, v)
         A, b, diagonal = self.system(x, v, dt)
         guess = np.zeros_like(b)
         past = [dv for h, dv in self._history if h == dt and dv.shape == b.shape]
@@ -243,7 +178,10 @@ class BaraffWitkin:
     def run(self, x0, v0, dt: float, n_steps: int):
         """``n_steps`` steps from ``(x0, v0)``: arrays ``x, v`` of shape ``(n_steps + 1, N, d)``
         and the list of :class:`StepInfo`."""
-        xs = np.empty((n_steps + 1, *np.shape(x0)))
+        x0, v0 = self.check_state(x0, v0)
+        n_steps = _validate.positive_int("n_steps", n_steps)
+        _validate.positive_finite("dt", dt)
+        xs = np.empty((n_steps + 1, *x0.shape))
         vs = np.empty_like(xs)
         xs[0], vs[0] = x0, v0
         infos = []

@@ -1,19 +1,23 @@
-"""Cloth as a grid of masses and springs, stepped explicitly or by Baraff & Witkin's method.
+"""Cloth as a grid of masses and springs, stepped explicitly, implicitly or by constraints.
 
 Holds :class:`Cloth` (the grid's rest positions, spring network of
 :func:`~course_lib.springs.cloth_grid`, particle masses and pinned particles) and
 :func:`sheet`, which lays one out horizontally with two corners pinned; the energies of a
 state (:func:`energies`); a time loop that takes ``substeps`` steps per animation frame
-with either symplectic Euler or the implicit step of :class:`~course_lib.baraff_witkin.
-BaraffWitkin`, with collisions applied after every step (:func:`simulate`); and the
-largest stable explicit step, measured by bisection (:func:`explicit_dt_max`) to set
-beside ``2/ω_max`` of :func:`~course_lib.springs.max_frequency`. Core module: imports
-NumPy and core modules only.
+(:func:`simulate`) with one of :data:`METHODS`: symplectic Euler, the implicit step of
+:class:`~course_lib.baraff_witkin.BaraffWitkin`, fast mass-springs
+(:class:`~course_lib.largestep.local_global.FastMassSpring`) or XPBD
+(:class:`~course_lib.largestep.xpbd.XPBD`), each optionally followed by Provot's strain
+limiting (:class:`~course_lib.largestep.strain_limit.StrainLimiter`) and by collisions;
+and the largest stable explicit step, measured by bisection (:func:`explicit_dt_max`) to
+set beside ``2/ω_max`` of :func:`~course_lib.springs.max_frequency`. Core module:
+imports NumPy and core modules only.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import math
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,10 +25,13 @@ import numpy as np
 from . import _validate
 from .baraff_witkin import BaraffWitkin
 from .forces import G_EARTH
+from .largestep import XPBD, FastMassSpring, StrainLimiter
 from .springs import SpringNetwork, cloth_grid
 from .stability import bisect_stable_dt
 
-METHODS = ("symplectic_euler", "baraff_witkin")
+METHODS = ("symplectic_euler", "baraff_witkin", "fast_mass_spring", "xpbd")
+#: XPBD's small steps per simulated second when ``options`` gives no ``substeps``.
+XPBD_SUBSTEPS_PER_SECOND = 60 * 30
 
 
 @dataclass
@@ -45,13 +52,27 @@ class Cloth:
 
 def sheet(n: int = 12, size: float = 0.55, total_mass: float = 0.1, k_struct: float = 300.0,
           k_shear: float | None = None, k_bend: float | None = None, c: float = 0.0,
-          height: float = 0.0, pinned: str = "corners") -> Cloth:
+          height: float = 0.0, pinned: str = "corners", damping_ratio: float | None = None) -> Cloth:
     """A square cloth of ``n × n`` particles and side ``size`` (m), lying flat in the
     horizontal plane ``y = height``, centred on the y axis (rows along z). Shear and bend stiffness default to
-    10 % and 2 % of ``k_struct`` (N/m); ``c`` damps along every spring (N s/m).
-    ``pinned="corners"`` holds the two corners of the first row, ``"none"`` nothing.
+    10 % and 2 % of ``k_struct`` (N/m); ``c`` damps along every spring (N s/m), or
+    ``damping_ratio=ζ`` sets ``c = ζ · 2 √(k_struct m)``, ``ζ`` times the critical damping
+    of one particle on one structural spring. ``pinned="corners"`` holds the two corners
+    of the first row, ``"none"`` nothing.
     """
     _validate.choice("pinned", pinned, ("corners", "none"))
+    height = _validate.finite_real("height", height)
+    if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 2:
+        raise ValueError(f"n must be an integer >= 2, got {n!r}")
+    size = _validate.positive_finite("size", size)
+    if damping_ratio is not None:
+        if c:
+            raise ValueError("give either c or damping_ratio, not both")
+        zeta = _validate.finite_real("damping_ratio", damping_ratio)
+        if zeta < 0:
+            raise ValueError(f"damping_ratio must be >= 0, got {zeta}")
+        m = _validate.positive_finite("total_mass", total_mass) / (n * n)
+        c = zeta * 2.0 * np.sqrt(_validate.positive_finite("k_struct", k_struct) * m)
     k_shear = 0.1 * k_struct if k_shear is None else k_shear
     k_bend = 0.02 * k_struct if k_bend is None else k_bend
     grid, net = cloth_grid(n, n, size / (n - 1), k_struct, k_shear, k_bend, c)
@@ -65,7 +86,10 @@ def sheet(n: int = 12, size: float = 0.55, total_mass: float = 0.1, k_struct: fl
 def energies(cloth: Cloth, x, v, gravity=G_EARTH) -> dict[str, np.ndarray]:
     """Kinetic, elastic and gravitational energy (J) of states ``x, v`` of shape (N, 3)
     or (F, N, 3); ``"total"`` is their sum. Height is measured along ``-gravity``."""
-    x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
+    x, v = _validate.state_array("x", x), _validate.state_array("v", v)
+    if x.shape != v.shape or x.shape[-2:] != cloth.x0.shape:
+        raise ValueError(f"x and v must both have shape {cloth.x0.shape} or (F, *that), got "
+                         f"{x.shape} and {v.shape}")
     kinetic = 0.5 * np.sum(cloth.mass * np.sum(v * v, axis=-1), axis=-1)
     elastic = cloth.network.energy(x)
     potential = -np.sum(cloth.mass * (x @ np.asarray(gravity, dtype=float)), axis=-1)
@@ -90,34 +114,62 @@ class ClothRun:
 def simulate(cloth: Cloth, method: str = "symplectic_euler", *, frames: int = 60,
              substeps: int = 1, fps: float = 30.0, gravity=G_EARTH, x0=None, v0=None,
              post_step: Callable | None = None, rtol: float = 1e-4,
-             blowup_bound: float = 100.0) -> ClothRun:
+             blowup_bound: float = 100.0, iterations: int | None = None,
+             strain_limit: float | None = None, options: Mapping | None = None) -> ClothRun:
     """Run ``frames`` animation frames of ``substeps`` steps each, ``dt = 1/(fps substeps)``.
 
     ``"symplectic_euler"``: ``v += dt (F(x, v)/m + g)`` (zero for pinned particles), then
-    ``x += dt v``. ``"baraff_witkin"``: one linearized implicit step, CG to ``rtol``. After
-    every step ``post_step(t, y)`` (e.g. :func:`course_lib.collisions.sphere`) may change
-    the stacked state ``y = (x, v)``. A run whose coordinates pass ``blowup_bound`` (m or
-    m/s) or stop being finite ends there; later frames are NaN.
+    ``x += dt v``. ``"baraff_witkin"``: one linearized implicit step, CG to ``rtol``
+    (``iterations`` caps CG). ``"fast_mass_spring"``: implicit Euler by ``iterations``
+    (default 20) local/global iterations accelerated by L-BFGS. ``"xpbd"``: each step is
+    ``dt`` × :data:`XPBD_SUBSTEPS_PER_SECOND` small XPBD steps (rounded up; or
+    ``options["substeps"]``) of ``iterations`` (default 1) sweeps. ``options`` go to the
+    solver's constructor (e.g. ``{"memory": 0}`` for plain local/global). With
+    ``strain_limit=τ`` every spring is kept within ``(1 + τ)`` times its rest length after
+    every step (Provot 1995). Then ``post_step(t, y)`` (e.g.
+    :func:`course_lib.collisions.sphere`) may change the stacked state ``y = (x, v)``.
+    A run whose coordinates pass ``blowup_bound`` (m or m/s) or stop being finite ends
+    there; later frames are NaN. Damping (the network's ``c``) acts in every method.
     """
     _validate.choice("method", method, METHODS)
-    if not isinstance(substeps, int | np.integer) or substeps < 1:
+    if isinstance(substeps, bool) or not isinstance(substeps, int | np.integer) or substeps < 1:
         raise ValueError(f"substeps must be an integer >= 1, got {substeps!r}")
+    frames = _validate.positive_int("frames", frames)
     dt = 1.0 / (_validate.positive_finite("fps", fps) * substeps)
-    g = np.asarray(gravity, dtype=float)
-    x = np.array(cloth.x0 if x0 is None else x0, dtype=float)
-    v = np.zeros_like(x) if v0 is None else np.array(v0, dtype=float)
+    g = _validate.vector("gravity", gravity)
+    x = _validate.state_array("x0", cloth.x0 if x0 is None else x0)
+    v = np.zeros_like(x) if v0 is None else _validate.state_array("v0", v0)
+    for name, a in (("x0", x), ("v0", v)):
+        if a.shape != cloth.x0.shape or np.iscomplexobj(a):
+            raise ValueError(f"{name} must be a real array of shape {cloth.x0.shape}, got {a.shape}")
+    if g.shape != (x.shape[1],):
+        raise ValueError(f"gravity must have shape ({x.shape[1]},), got {g.shape}")
+    if post_step is not None:
+        _validate.callable_arg("post_step", post_step)
+    _validate.positive_finite("rtol", rtol)
+    blowup_bound = _validate.positive_finite("blowup_bound", blowup_bound)
+    if iterations is not None:
+        if method == "symplectic_euler":
+            raise ValueError("iterations does not apply to symplectic_euler (it has none)")
+        iterations = _validate.positive_int("iterations", iterations)
+    options = dict(options or {})
+    solver = _solver(cloth, method, g, rtol, iterations, dt, options)
+    limiter = None if strain_limit is None else StrainLimiter(
+        cloth.network, cloth.mass, _validate.positive_finite("strain_limit", strain_limit),
+        pinned=cloth.pinned)
     free = np.ones((cloth.n, 1))
     free[cloth.pinned] = 0.0
     inv_m = free / cloth.mass[:, None]
-    solver = None
-    if method == "baraff_witkin":
-        solver = BaraffWitkin(cloth.network, cloth.mass, pinned=cloth.pinned, gravity=g,
-                              rtol=rtol, check=False)
     xs = np.full((frames + 1, *x.shape), np.nan)
     vs = np.full_like(xs, np.nan)
     xs[0], vs[0] = x, v
     force = np.empty_like(x)
-    iterations, message = [], "ok"
+    iterations_done, message = [], "ok"
+
+    def broken(x, v) -> bool:
+        return not (np.all(np.isfinite(x)) and np.abs(x).max() <= blowup_bound
+                    and np.all(np.isfinite(v)) and np.abs(v).max() <= blowup_bound)
+
     with np.errstate(over="ignore", invalid="ignore"):
         for f in range(1, frames + 1):
             for s in range(substeps):
@@ -128,16 +180,37 @@ def simulate(cloth: Cloth, method: str = "symplectic_euler", *, frames: int = 60
                     x = x + dt * v
                 else:
                     x, v = solver.step(x, v, dt, t=t)
-                    iterations.append(solver.info.iterations)
+                    info = solver.info
+                    iterations_done.append(getattr(info, "iterations", getattr(info, "sweeps", 0)))
+                if limiter is not None:
+                    x, v = limiter.apply(x, v, dt)
                 if post_step is not None:
                     x, v = post_step(t + dt, np.stack((x, v)))
-            if not (np.all(np.isfinite(x)) and np.abs(x).max() <= blowup_bound
-                    and np.abs(v).max() <= blowup_bound):
+                if solver is not None and broken(x, v):
+                    break             # a costly solver must not start from a broken state
+            if broken(x, v):
                 message = f"unstable at frame {f}, t = {f / fps:.3g} s (|y| > {blowup_bound:g})"
                 break
             xs[f], vs[f] = x, v
     return ClothRun(np.arange(frames + 1) / fps, xs, vs, dt, message == "ok", message,
-                    np.array(iterations, dtype=int))
+                    np.array(iterations_done, dtype=int))
+
+
+def _solver(cloth: Cloth, method: str, g, rtol: float, iterations, dt: float, options: dict):
+    """The stepper of ``method`` for ``cloth`` (``None`` for symplectic Euler)."""
+    common = {"pinned": cloth.pinned, "gravity": g}
+    if method == "symplectic_euler":
+        if options:
+            raise ValueError(f"options do not apply to symplectic_euler, got {sorted(options)}")
+        return None
+    if method == "baraff_witkin":
+        return BaraffWitkin(cloth.network, cloth.mass, **common, rtol=rtol, check=False,
+                            maxiter=iterations, **options)
+    if method == "fast_mass_spring":
+        return FastMassSpring(cloth.network, cloth.mass, **common,
+                              iterations=iterations or 20, **options)
+    options.setdefault("substeps", max(1, math.ceil(dt * XPBD_SUBSTEPS_PER_SECOND - 1e-9)))
+    return XPBD(cloth.network, cloth.mass, **common, iterations=iterations or 1, **options)
 
 
 def explicit_dt_max(cloth: Cloth, n_steps: int = 600, rtol: float = 1e-3, seed: int = 0,

@@ -207,3 +207,85 @@ def test_external_force_is_added_like_gravity():
     a, b = with_g.step(x0, v0, 0.02), with_ext.step(x0, v0, 0.02)
     assert np.allclose(a[0], b[0], rtol=1e-13, atol=1e-15)
     assert np.allclose(a[1], b[1], rtol=1e-12, atol=1e-13)
+
+
+# --- issue 20: every solver entry point checks its input and fails before any work -------
+
+def _solvers(net, pinned):
+    from course_lib.largestep import PBD, XPBD, FastMassSpring
+
+    return {"baraff_witkin": BaraffWitkin(net, 1e-3, pinned=pinned, gravity=G),
+            "fast_mass_spring": FastMassSpring(net, 1e-3, pinned=pinned, gravity=G),
+            "xpbd": XPBD(net, 1e-3, pinned=pinned, gravity=G),
+            "pbd": PBD(net, 1e-3, pinned=pinned, gravity=G)}
+
+
+BAD_STATES = {
+    "v of the wrong width": (lambda x, v: (x, v[:, :2]), "v"),
+    "v for too few particles": (lambda x, v: (x, v[:-1]), "v"),
+    "x of the wrong width": (lambda x, v: (x[:, :2], v[:, :2]), "gravity"),
+    "x for too many particles": (lambda x, v: (np.vstack((x, x[:1])), np.vstack((v, v[:1]))), "x"),
+    "NaN in x": (lambda x, v: (np.where(np.arange(len(x))[:, None] == 3, np.nan, x), v), "x"),
+    "inf in v": (lambda x, v: (x, np.where(np.arange(len(x))[:, None] == 5, np.inf, v)), "v"),
+    "complex v": (lambda x, v: (x, v + 1j), "v"),
+    "text in x": (lambda x, v: (x.astype(str), v), "x"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_STATES))
+@pytest.mark.parametrize("method", ["baraff_witkin", "fast_mass_spring", "xpbd", "pbd"])
+def test_bad_states_fail_at_once_naming_the_argument(method, case, monkeypatch):
+    import scipy.sparse.linalg as spla
+
+    calls = []
+    monkeypatch.setattr(spla, "cg", lambda *a, **k: calls.append(1))
+    monkeypatch.setattr(spla, "splu", lambda *a, **k: calls.append(1))
+    x0, net = S.cloth_grid(4, 4, 0.1, c=0.1)
+    solver = _solvers(net, [0, 3])[method]
+    make, name = BAD_STATES[case]
+    x, v = make(x0, np.zeros_like(x0))
+    with pytest.raises((ValueError, TypeError), match=name):
+        solver.step(x, v, 0.01)
+    assert not calls                                  # no solve was started
+
+
+@pytest.mark.parametrize("dt", [0.0, -0.1, np.nan, np.inf, "0.1", None])
+@pytest.mark.parametrize("method", ["baraff_witkin", "fast_mass_spring", "xpbd", "pbd"])
+def test_bad_steps_and_times_are_named(method, dt):
+    x0, net = S.cloth_grid(3, 3, 0.1)
+    solver = _solvers(net, [0])[method]
+    with pytest.raises((ValueError, TypeError), match="dt"):
+        solver.step(x0, np.zeros_like(x0), dt)
+    with pytest.raises((ValueError, TypeError), match="t must"):
+        solver.step(x0, np.zeros_like(x0), 0.01, t=np.nan)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    ({"mass": np.nan}, "mass"), ({"mass": [1.0, 2.0]}, "mass"), ({"pinned": [[0, 1]]}, "pinned"),
+    ({"pinned": [0.5]}, "pinned"), ({"gravity": [[0.0, -9.8, 0.0]]}, "gravity"),
+    ({"gravity": [0.0, np.nan, 0.0]}, "gravity"), ({"external": "wind"}, "external"),
+])
+def test_bad_solver_arguments_are_named(kwargs, name):
+    from course_lib.largestep import XPBD, FastMassSpring
+
+    _, net = S.cloth_grid(3, 3, 0.1)
+    args = {"mass": 1e-3, **kwargs}
+    mass = args.pop("mass")
+    for cls in (BaraffWitkin, FastMassSpring, XPBD):
+        with pytest.raises((ValueError, TypeError), match=name):
+            cls(net, mass, **args)
+    with pytest.raises(ValueError, match="rtol"):
+        BaraffWitkin(net, 1.0, rtol=-1.0)
+    with pytest.raises((ValueError, TypeError), match="iterations"):
+        FastMassSpring(net, 1.0, iterations=0)
+    with pytest.raises(ValueError, match="memory"):
+        FastMassSpring(net, 1.0, memory=-1)
+    with pytest.raises((ValueError, TypeError), match="substeps"):
+        XPBD(net, 1.0, substeps=1.5)
+
+
+def test_external_forces_that_are_not_finite_are_named():
+    x0, net = S.cloth_grid(3, 3, 0.1)
+    solver = BaraffWitkin(net, 1e-3, external=lambda t, x, v: np.full_like(x, np.nan))
+    with pytest.raises(ValueError, match="external"):
+        solver.step(x0, np.zeros_like(x0), 0.01)

@@ -8,6 +8,10 @@ linearization.
 - :mod:`~course_lib.springs.jacobian`: analytic sparse ``∂F/∂x`` and ``∂F/∂v``
   (:func:`jacobian_x`, :func:`jacobian_v`), :func:`stiffness_matrix`,
   :func:`max_frequency`, :func:`newtonian_jacobian` for the implicit integrators;
+- :mod:`~course_lib.springs.linearization`: :class:`Linearization`, the force and
+  Jacobian–vector products at a state (``SpringNetwork.linearize``);
+- :mod:`~course_lib.springs.projection`: :func:`rest_projection` and :class:`Projection`,
+  each spring projected onto its rest length (``SpringNetwork.project``);
 - :mod:`~course_lib.springs.oscillator`: :func:`critical_damping`,
   :func:`damped_oscillator`.
 
@@ -24,10 +28,15 @@ from .jacobian import (
     newtonian_jacobian,
     stiffness_matrix,
 )
-from .network import SpringNetwork, spring_force_pair
+from .linearization import Linearization
+from .network import SpringNetwork
 from .oscillator import critical_damping, damped_oscillator
+from .pair import spring_force_pair
+from .projection import Projection, rest_projection
 
 __all__ = [
+    "Linearization",
+    "Projection",
     "SpringNetwork",
     "anchored_spring",
     "assemble",
@@ -41,6 +50,7 @@ __all__ = [
     "jacobian_x",
     "max_frequency",
     "newtonian_jacobian",
+    "rest_projection",
     "spring_force_pair",
     "stiffness_matrix",
 ]

@@ -23,6 +23,12 @@ chains and grids as contiguous *bands* of springs a fixed index offset apart (sh
 slices, no gather), anything else gathered with ``np.take`` and summed with a sparse
 incidence matrix.
 
+Solvers use three public methods and nothing below them: :meth:`SpringNetwork.forces`
+(and :meth:`~SpringNetwork.potential`, energy and forces at once),
+:meth:`~SpringNetwork.linearize` (Jacobian–vector products, see
+:mod:`course_lib.springs.linearization`) and :meth:`~SpringNetwork.project` (each spring
+projected onto its rest length, see :mod:`course_lib.springs.projection`).
+
 Core module: imports NumPy and :mod:`course_lib.springs.layout` only.
 """
 
@@ -32,7 +38,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .layout import SpringLayout
+from .layout import SpringLayout, sum_rows
+from .pair import spring_force_pair  # noqa: F401  (its historical home)
 
 
 def _index_array(name: str, value) -> np.ndarray:
@@ -55,18 +62,6 @@ def _kind_array(kind, m: int) -> np.ndarray:
     if m and arr.dtype.kind != "U":
         raise TypeError(f"kind must hold strings such as 'edge' or 'bend', got dtype {arr.dtype}")
     return arr.astype(str)
-
-
-def sum_rows(a: np.ndarray, out: np.ndarray) -> np.ndarray:
-    """``out = a[0] + a[1] + …``: the sum over the few long rows of ``a`` (faster than
-    ``np.sum(a, axis=0)``)."""
-    if len(a) == 1:
-        np.copyto(out, a[0])
-        return out
-    np.add(a[0], a[1], out=out)
-    for row in a[2:]:
-        out += row
-    return out
 
 
 class _Work:
@@ -296,13 +291,24 @@ class SpringNetwork:
         """``F(t, x, v)`` form of :meth:`forces`, for :class:`~course_lib.systems.NewtonianSystem`."""
         return self.forces(x, v)
 
+    # --- the interface of the solvers: forces, Jacobian–vector products, projections ---
 
-def spring_force_pair(x1, x2, k: float, rest: float) -> np.ndarray:
-    """Hooke force on particle 1 of a single spring: ``-k (|x1 - x2| - L) (x1 - x2)/|x1 - x2|``.
+    def potential(self, x) -> tuple[float, np.ndarray]:
+        """Elastic energy (J) and spring forces ``(N, d)`` (N) at positions ``x``, in one pass."""
+        from .projection import elastic_energy_slots
 
-    Zero where the two ends coincide (the direction is undefined there).
-    """
-    d = np.asarray(x1, dtype=float) - np.asarray(x2, dtype=float)
-    length = np.linalg.norm(d, axis=-1, keepdims=True)
-    inv = np.divide(1.0, length, out=np.zeros_like(length), where=length > 0.0)
-    return -k * (length - rest) * d * inv
+        return elastic_energy_slots(self, x)
+
+    def linearize(self, x, v=None, *, definite: bool = True):
+        """The network linearized about ``(x, v)``: its force and products with ``K = -∂F/∂x``
+        and ``C = -∂F/∂v`` (a :class:`~course_lib.springs.linearization.Linearization`)."""
+        from .linearization import Linearization
+
+        return Linearization(self, x, v, definite=definite)
+
+    def project(self, x) -> np.ndarray:
+        """Each spring projected onto its rest length, ``L u``, shape ``(M, d)`` (see
+        :mod:`course_lib.springs.projection`)."""
+        from .projection import rest_projection
+
+        return rest_projection(self, x)
