@@ -2,10 +2,11 @@
 
 import numpy as np
 import pytest
+from planted import Plant, define, judge
 
 import course_lib as cl
 from course_lib import events
-from course_lib.check import RESULTS
+from course_lib.check import FAILURES, RESULTS
 from course_lib.check import nb05 as check
 from course_lib.lessons import nb05_newton as nb05
 
@@ -247,168 +248,260 @@ def test_implicit_last_half_kick_keeps_second_order():
     assert errs[True][0] / errs[True][1] == pytest.approx(4.0, rel=0.02)
 
 
-# --- the checks --------------------------------------------------------------------------
+# --- the energy-band explorer -----------------------------------------------------------
 
 
-def _status(name):
-    return RESULTS[f"nb05.{name}"]["status"]
+def test_energy_bands_are_integrate_to_round_off():
+    for dt in (0.1, 0.7):
+        res = nb05.energy_bands(dt, periods=3)
+        n = res.t.size - 1
+        for m in nb05.BAND_METHODS:
+            tr = cl.integrate(cl.systems.oscillator(1.0), [1.0, 0.0], (0.0, n * dt), dt, m)
+            E = cl.systems.oscillator_energy(tr.y, 1.0) / 0.5
+            # matrix powers and step-by-step runs round differently: ~ n ulp of the energy
+            assert np.allclose(res.ratio[m], E, rtol=64 * n * np.finfo(float).eps, atol=0)
 
 
-def _stub(*args):
-    raise NotImplementedError()
+@pytest.mark.parametrize("dt", [0.02, 0.1, 0.5, 1.5])
+def test_energy_bands_fill_their_theory_band(dt):
+    res = nb05.energy_bands(dt)
+    assert res.stable and res.verdict.startswith("stable")
+    for m in ("symplectic_euler", "velocity_verlet"):
+        (lo, hi), (low, high) = res.band[m], res.spread[m]
+        # inside the band to round-off, and reaching within the sampling of its edges: a
+        # step turns the state by ω~ dt, so the nearest sample misses an extreme of E by at
+        # most a fraction (ω~ dt / 2)² of the band's width
+        width, turn = hi - lo, nb05.discrete_frequency(1.0, dt) * dt
+        tol = 1e-12 * n_steps(res)
+        assert lo - tol <= low and high <= hi + tol
+        assert low - lo <= width * (0.5 * turn) ** 2 + tol and hi - high <= width * (0.5 * turn) ** 2 + tol
+    # forward Euler multiplies E by (1 + ω² dt²) every step
+    n = n_steps(res)
+    assert res.ratio["forward_euler"][n] == pytest.approx((1 + dt**2) ** n, rel=1e-9) or (
+        not np.isfinite(res.ratio["forward_euler"][n]) and (1 + dt**2) ** n > 1e12)
 
 
-def _se(f, t, y, dt):
+def n_steps(res):
+    return res.t.size - 1
+
+
+def test_energy_bands_past_the_limit_and_bad_input():
+    res = nb05.energy_bands(2.1)
+    assert not res.stable and res.verdict.startswith("unstable")
+    assert np.isnan(res.ratio["symplectic_euler"][-1])          # stopped past 1e12
+    assert nb05.energy_bands(1.99).stable
+    with pytest.raises(ValueError, match="dt"):
+        nb05.energy_bands(0.0)
+    # the theory bands of the verdict: ω dt = 0.1 gives [0.952, 1.05] and 0.25 %
+    assert "[0.952, 1.05]" in nb05.energy_bands(0.1).verdict and "0.25 %" in nb05.energy_bands(0.1).verdict
+
+
+def test_band_widths_quoted_in_the_key_states():
+    # "band width 0.05 at dt = 0.05 s, 0.1 at dt = 0.1 s, ratio 2.00" and Verlet's
+    # "0.000625 ... 0.0025 ..., ratio 4.00": theory h / (1 - h²/4) and h²/4, sampled
+    widths = {h: {m: np.ptp(nb05.energy_bands(h).ratio[m]) for m in ("symplectic_euler",
+                                                                       "velocity_verlet")}
+              for h in (0.05, 0.1)}
+    for h in (0.05, 0.1):
+        assert widths[h]["symplectic_euler"] == pytest.approx(h / (1 - h * h / 4), rel=1e-4)
+        assert widths[h]["velocity_verlet"] == pytest.approx(h * h / 4, rel=1e-4)
+    assert [f"{widths[h]['symplectic_euler']:.3g}" for h in (0.05, 0.1)] == ["0.05", "0.1"]
+    assert [f"{widths[h]['velocity_verlet']:.3g}" for h in (0.05, 0.1)] == ["0.000625", "0.0025"]
+    se = widths[0.1]["symplectic_euler"] / widths[0.05]["symplectic_euler"]
+    vv = widths[0.1]["velocity_verlet"] / widths[0.05]["velocity_verlet"]
+    assert (f"{se:.2f}", f"{vv:.2f}") == ("2.00", "4.00")
+
+
+def test_energy_explorer_view_and_player():
+    from course_lib.lessons import nb05_energy_view as view05
+
+    view = view05.energy_explorer()
+    assert view.result.stable and view.figure is not None
+    view.controls["dt"].value = 2.2
+    assert not view.result.stable
+    plot = view05.EnergyBandPlot()
+    fig = plot(nb05.energy_bands(2.2))
+    assert fig.axes[0].get_yscale() == "log"
+    fig = plot(nb05.energy_bands(0.2))
+    assert fig.axes[0].get_yscale() == "linear"
+    dots = {m: plot.dots[m].get_ydata()[0] for m in nb05.BAND_METHODS}
+    assert dots["velocity_verlet"] == pytest.approx(0.01, rel=1e-3)      # ω² dt² / 4
+    player = view05.energy_player(dts=(0.5, 2.1))
+    assert player.labels == ["dt = 0.5 s", "dt = 2.1 s"]
+    assert player.captions[0].startswith("stable") and player.captions[1].startswith("unstable")
+
+
+# --- the checks: planted answers (tests/planted.py) ---------------------------------------
+
+SE_RIGHT = """def symplectic_euler_step(f, t, y, dt):
     v = y[1] + dt * f(t, y)[1]
-    return np.stack((y[0] + dt * v, v))
-
-
-def _vv(f, t, y, dt, old_v=False, t_shift=False):
+    return np.stack((y[0] + dt * v, v))"""
+VV_RIGHT = """def velocity_verlet_step(f, t, y, dt):
     x, v = y[0], y[1]
     v_half = v + 0.5 * dt * f(t, y)[1]
     x_new = x + dt * v_half
-    a_new = f(t if t_shift else t + dt, np.stack((x_new, v if old_v else v_half)))[1]
-    return np.stack((x_new, v_half + 0.5 * dt * a_new))
-
-
-def _main(func):
-    func.__module__ = "__main__"            # as if written in the notebook
-    return func
-
-
-def test_check_symplectic_euler(capsys):
-    check.symplectic_euler_step(_se)
-    assert _status("symplectic_euler_step") == "correct"
-    check.symplectic_euler_step(lambda f, t, y, dt: _se(f, t, y, dt).astype(np.float32))
-    assert _status("symplectic_euler_step") == "correct"
-    capsys.readouterr()
-    check.symplectic_euler_step(lambda f, t, y, dt: cl.forward_euler(f, t, y, dt))
-    assert _status("symplectic_euler_step") == "incorrect"
-    assert "this is forward Euler" in capsys.readouterr().out
-
-    def late(f, t, y, dt):
-        v = y[1] + dt * f(t + dt, y)[1]
-        return np.stack((y[0] + dt * v, v))
-
-    check.symplectic_euler_step(late)
-    assert "not f(t + dt, y)" in capsys.readouterr().out
-    check.symplectic_euler_step(lambda f, t, y, dt: np.full_like(y, np.nan))
-    out = capsys.readouterr().out
-    assert "returned NaN" in out and "nan" not in out.replace("NaN", "")
-
-    def inplace(f, t, y, dt):
-        y[1] += dt * f(t, y)[1]
-        y[0] += dt * y[1]
-        return y
-
-    check.symplectic_euler_step(inplace)
-    assert "changed its input" in capsys.readouterr().out
-    check.symplectic_euler_step(_main(lambda f, t, y, dt: cl.symplectic_euler(f, t, y, dt)))
-    assert "uses the reference" in capsys.readouterr().out
-    check.symplectic_euler_step(_stub)
-    assert _status("symplectic_euler_step") == "pending"
-
-
-def test_check_velocity_verlet(capsys):
-    check.velocity_verlet_step(_vv)
-    assert _status("velocity_verlet_step") == "correct"
-    check.velocity_verlet_step(lambda f, t, y, dt: _vv(f, t, y, dt).astype(np.float32))
-    assert _status("velocity_verlet_step") == "correct"
-    capsys.readouterr()
-
-    def stale(f, t, y, dt):
-        a = f(t, y)[1]
-        return np.stack((y[0] + dt * y[1] + 0.5 * dt**2 * a, y[1] + dt * a))
-
-    check.velocity_verlet_step(stale)
-    assert _status("velocity_verlet_step") == "incorrect"
-    out = capsys.readouterr().out
-    assert "acceleration at the NEW position" in out and "OLD velocity" not in out
-    check.velocity_verlet_step(lambda f, t, y, dt: _vv(f, t, y, dt, old_v=True))
-    out = capsys.readouterr().out
-    assert "you passed the OLD velocity v" in out and out.count("\n   ✗") == 2   # the oscillator passes
-    check.velocity_verlet_step(lambda f, t, y, dt: _vv(f, t, y, dt, t_shift=True))
-    out = capsys.readouterr().out
-    assert "END of the step: f(t + dt, ...)" in out and out.count("\n   ✗") == 1  # only the driven case
-    check.velocity_verlet_step(_main(lambda f, t, y, dt: cl.velocity_verlet(f, t, y, dt)))
-    assert "uses the reference" in capsys.readouterr().out
-    check.velocity_verlet_step(_stub)
-    assert _status("velocity_verlet_step") == "pending"
-
-
-def _impact(t, h):
+    return np.stack((x_new, v_half + 0.5 * dt * f(t + dt, np.stack((x_new, v_half)))[1]))"""
+IMPACT_RIGHT = """def impact_time(t, h):
     k = np.flatnonzero(h < 0)[0]
-    return t[k - 1] + (t[k] - t[k - 1]) * h[k - 1] / (h[k - 1] - h[k])
-
-
-def test_check_impact_time(capsys):
-    check.impact_time(_impact)
-    assert _status("impact_time") == "correct"
-    check.impact_time(lambda t, h: np.float32(_impact(t, h)))
-    assert _status("impact_time") == "correct"
-    capsys.readouterr()
-    check.impact_time(lambda t, h: t[np.flatnonzero(h < 0)[0]])
-    assert _status("impact_time") == "incorrect"
-    assert "first step below ground" in capsys.readouterr().out
-
-    def wrong_numerator(t, h):
-        k = np.flatnonzero(h < 0)[0]
-        return t[k - 1] + (t[k] - t[k - 1]) * h[k] / (h[k - 1] - h[k])
-
-    check.impact_time(wrong_numerator)
-    assert "you used h[k] in the numerator" in capsys.readouterr().out
-    check.impact_time(lambda t, h: int(np.flatnonzero(h < 0)[0]))
-    assert "you returned an index" in capsys.readouterr().out
-    check.impact_time(_main(lambda t, h: cl.events.first_crossing(t, h)))
-    assert "uses the reference" in capsys.readouterr().out
-    check.impact_time(_stub)
-    assert _status("impact_time") == "pending"
-
-
-def _order(run, dt):
+    return t[k - 1] + (t[k] - t[k - 1]) * h[k - 1] / (h[k - 1] - h[k])"""
+ORDER_RIGHT = """def observed_order(run, dt):
     a, b, c = (np.asarray(run(h), dtype=float) for h in (dt, dt / 2, dt / 4))
     d1, d2 = np.linalg.norm(a - b), np.linalg.norm(b - c)
     p = np.log2(d1 / d2)
-    return p, d2 / (2**p - 1)
+    return p, d2 / (2**p - 1)"""
 
 
-def test_check_observed_order(capsys):
-    check.observed_order(_order)
-    assert _status("observed_order") == "correct"
-    check.observed_order(lambda run, dt: tuple(np.float32(v) for v in _order(run, dt)))
-    assert _status("observed_order") == "correct"
-    capsys.readouterr()
+def _order_variant(body: str) -> str:
+    return ORDER_RIGHT.replace("    return p, d2 / (2**p - 1)", body)
 
-    def natural_log(run, dt):
-        p, err = _order(run, dt)
-        return p * np.log(2), err
 
-    def no_division(run, dt):
-        p, err = _order(run, dt)
-        return p, err * (2**p - 1)
+PLANTS = [
+    Plant("symplectic_euler_step", "other", "right", SE_RIGHT, "correct", ""),
+    Plant("symplectic_euler_step", "other", "right, in float32",
+          SE_RIGHT.replace("return np.stack((y[0] + dt * v, v))",
+                           "return np.stack((y[0] + dt * v, v)).astype(np.float32)"), "correct", ""),
+    Plant("symplectic_euler_step", "delegating", "cl.symplectic_euler",
+          "def symplectic_euler_step(f, t, y, dt):\n    return cl.symplectic_euler(f, t, y, dt)",
+          "incorrect", "course_lib.steppers.symplectic_euler"),
+    Plant("symplectic_euler_step", "delegating", "integrate one step",
+          "def symplectic_euler_step(f, t, y, dt):\n"
+          "    return cl.integrate(f, y, (t, t + dt), dt, 'symplectic_euler').y[-1]",
+          "incorrect", "uses the reference"),
+    Plant("symplectic_euler_step", "shortcut", "force at t = 0 (time frozen)",
+          SE_RIGHT.replace("f(t, y)", "f(0.0, y)"), "incorrect",
+          "your function evaluated f at t - 0.7"),
+    Plant("symplectic_euler_step", "misconception", "forward Euler (old velocity)",
+          "def symplectic_euler_step(f, t, y, dt):\n"
+          "    return np.stack((y[0] + dt * y[1], y[1] + dt * f(t, y)[1]))",
+          "incorrect", "this is forward Euler"),
+    Plant("symplectic_euler_step", "other", "updates y in place",
+          "def symplectic_euler_step(f, t, y, dt):\n    y[1] += dt * f(t, y)[1]\n"
+          "    y[0] += dt * y[1]\n    return y", "incorrect", "changed its input"),
+    Plant("symplectic_euler_step", "other", "velocity update off by a factor (evidence: v wrong)",
+          SE_RIGHT.replace("v = y[1] + dt * f(t, y)[1]", "v = y[1] + 2 * dt * f(t, y)[1]"),
+          "incorrect", "your positions follow from your velocities"),
+    Plant("symplectic_euler_step", "other", "returns NaN", "def symplectic_euler_step(f, t, y, dt):"
+          "\n    return np.full_like(y, np.nan)", "incorrect", "returned NaN or inf"),
+    Plant("symplectic_euler_step", "other", "blank", "def symplectic_euler_step(f, t, y, dt):\n"
+          "    raise NotImplementedError()", "pending", ""),
+    Plant("velocity_verlet_step", "other", "right", VV_RIGHT, "correct", ""),
+    Plant("velocity_verlet_step", "delegating", "cl.velocity_verlet",
+          "def velocity_verlet_step(f, t, y, dt):\n    return cl.velocity_verlet(f, t, y, dt)",
+          "incorrect", "course_lib.steppers.velocity_verlet"),
+    Plant("velocity_verlet_step", "delegating", "half steps of cl.symplectic_euler",
+          "def velocity_verlet_step(f, t, y, dt):\n    return cl.symplectic_euler(f, t, y, dt)",
+          "incorrect", "uses the reference"),
+    Plant("velocity_verlet_step", "shortcut", "old velocity in the new force (breaks with drag)",
+          VV_RIGHT.replace("np.stack((x_new, v_half)))[1]", "np.stack((x_new, v)))[1]"),
+          "incorrect", "you passed the OLD velocity v"),
+    Plant("velocity_verlet_step", "misconception", "whole kicks instead of half kicks",
+          "def velocity_verlet_step(f, t, y, dt):\n    a = f(t, y)[1]\n"
+          "    return np.stack((y[0] + dt * (y[1] + dt * a), y[1] + dt * a))",
+          "incorrect", "use half kicks"),
+    Plant("velocity_verlet_step", "other", "second kick with the old acceleration",
+          "def velocity_verlet_step(f, t, y, dt):\n    a = f(t, y)[1]\n"
+          "    v_half = y[1] + 0.5 * dt * a\n"
+          "    return np.stack((y[0] + dt * v_half, v_half + 0.5 * dt * a))",
+          "incorrect", "acceleration at the NEW position"),
+    Plant("velocity_verlet_step", "other", "new force at t instead of t + dt",
+          VV_RIGHT.replace("f(t + dt,", "f(t,"), "incorrect", "END of the step"),
+    Plant("impact_time", "other", "right", IMPACT_RIGHT, "correct", ""),
+    Plant("impact_time", "other", "right, returned as float32",
+          IMPACT_RIGHT.replace("    return t[k - 1]", "    return np.float32(t[k - 1]")
+          .replace("h[k])", "h[k]))"), "correct", ""),
+    Plant("impact_time", "delegating", "cl.events.first_crossing",
+          "def impact_time(t, h):\n    return cl.events.first_crossing(t, h)",
+          "incorrect", "course_lib.events.first_crossing"),
+    Plant("impact_time", "delegating", "cl.events.crossing_linear",
+          "def impact_time(t, h):\n    k = np.flatnonzero(h < 0)[0]\n"
+          "    return cl.events.crossing_linear(t[k - 1], h[k - 1], t[k], h[k])",
+          "incorrect", "uses the reference"),
+    Plant("impact_time", "shortcut", "np.interp on the reversed samples (assumes h decreases)",
+          "def impact_time(t, h):\n    return np.interp(0.0, h[::-1], t[::-1])",
+          "incorrect", "np.interp needs increasing sample points"),
+    Plant("impact_time", "shortcut", "step taken as t[1] - t[0] (assumes even steps)",
+          IMPACT_RIGHT.replace("(t[k] - t[k - 1])", "(t[1] - t[0])"), "incorrect",
+          "not evenly spaced"),
+    Plant("impact_time", "shortcut", "first sign change (assumes h starts above 0)",
+          IMPACT_RIGHT.replace("k = np.flatnonzero(h < 0)[0]",
+                               "k = np.flatnonzero(np.diff(np.sign(h)))[0] + 1"),
+          "incorrect", "a sign change from 0 to + is the throw"),
+    Plant("impact_time", "misconception", "time of the first sample below ground",
+          "def impact_time(t, h):\n    return t[np.flatnonzero(h < 0)[0]]", "incorrect",
+          "first sample below ground"),
+    Plant("impact_time", "other", "h[k] in the numerator",
+          IMPACT_RIGHT.replace("h[k - 1] / (h", "h[k] / (h"), "incorrect",
+          "you put h[k] on top"),
+    Plant("impact_time", "other", "returns the index", "def impact_time(t, h):\n"
+          "    return int(np.flatnonzero(h < 0)[0])", "incorrect", "you returned an index"),
+    Plant("impact_time", "other", "returns a list", "def impact_time(t, h):\n    return [1.0, 2.0]",
+          "incorrect", "expected one number"),
+    Plant("observed_order", "other", "right", ORDER_RIGHT, "correct", ""),
+    Plant("observed_order", "delegating", "lesson.three_grid_order",
+          "def observed_order(run, dt):\n    return lesson05.three_grid_order(run, dt)",
+          "incorrect", "course_lib.lessons.nb05_newton.three_grid_order"),
+    Plant("observed_order", "shortcut", "rounds p to a whole number",
+          _order_variant("    return round(p), d2 / (2**round(p) - 1)"), "incorrect",
+          "you rounded p"),
+    Plant("observed_order", "shortcut", "largest entry instead of the norm (breaks on arrays)",
+          ORDER_RIGHT.replace("np.linalg.norm(a - b), np.linalg.norm(b - c)",
+                              "np.abs(a - b).max(), np.abs(b - c).max()"), "incorrect",
+          "Euclidean norm"),
+    Plant("observed_order", "shortcut", "abs of the difference (assumes a number)",
+          ORDER_RIGHT.replace("np.linalg.norm(a - b), np.linalg.norm(b - c)",
+                              "abs(a - b), abs(b - c)"), "incorrect",
+          "reduce each difference to one number"),
+    Plant("observed_order", "misconception", "natural logarithm",
+          ORDER_RIGHT.replace("np.log2(d1 / d2)", "np.log(d1 / d2)"), "incorrect",
+          "base-2 logarithm"),
+    Plant("observed_order", "other", "error of the middle run",
+          _order_variant("    return p, d1 / (2**p - 1)"), "incorrect", "MIDDLE run"),
+    Plant("observed_order", "other", "finest difference taken as the error",
+          _order_variant("    return p, d2"), "incorrect", "not the finest run's own error"),
+    Plant("observed_order", "other", "upside-down ratio",
+          ORDER_RIGHT.replace("np.log2(d1 / d2)", "np.log2(d2 / d1)"), "incorrect", "upside down"),
+    Plant("observed_order", "other", "coarser grids", "def observed_order(run, dt):\n"
+          "    a, b, c = (np.asarray(run(h)) for h in (4 * dt, 2 * dt, dt))\n"
+          "    p = np.log2(np.linalg.norm(a - b) / np.linalg.norm(b - c))\n"
+          "    return p, np.linalg.norm(b - c) / (2**p - 1)", "incorrect",
+          "run the three grids dt, dt/2 and dt/4"),
+    Plant("observed_order", "other", "never runs", "def observed_order(run, dt):\n    return 2.0, 0.0",
+          "incorrect", "never called run"),
+    Plant("observed_order", "other", "returns p only",
+          _order_variant("    return p"), "incorrect", "return a pair (p, error)"),
+]
 
-    def middle_error(run, dt):
-        p, err = _order(run, dt)
-        return p, err * 2**p
 
-    def inverted(run, dt):
-        p, err = _order(run, dt)
-        return -p, err
+@pytest.mark.parametrize("plant", PLANTS, ids=lambda p: f"{p.exercise}: {p.label}")
+def test_planted_answer(plant):
+    judge(check, plant)
 
-    def coarser_grids(run, dt):
-        return _order(lambda h: run(4 * h), dt)
 
-    for answer, hint in [(natural_log, "base-2 logarithm"), (no_division, "divide by 2^p - 1"),
-                         (middle_error, "error of the MIDDLE run"), (inverted, "upside down"),
-                         (coarser_grids, "run the three grids dt, dt/2 and dt/4")]:
-        check.observed_order(answer)
-        assert _status("observed_order") == "incorrect"
-        assert hint in capsys.readouterr().out, hint
-    check.observed_order(lambda run, dt: 2.0)
-    assert "never called run" in capsys.readouterr().out
-    check.observed_order(lambda run, dt: _order(run, dt)[0])
-    assert "return a pair (p, error)" in capsys.readouterr().out
-    check.observed_order(_main(lambda run, dt: nb05.three_grid_order(run, dt)))
-    assert "uses the reference" in capsys.readouterr().out
-    check.observed_order(_stub)
-    assert _status("observed_order") == "pending"
+def test_every_exercise_has_the_three_kinds_of_plants():
+    for exercise in ("symplectic_euler_step", "velocity_verlet_step", "impact_time", "observed_order"):
+        kinds = {p.kind for p in PLANTS if p.exercise == exercise}
+        assert {"delegating", "shortcut", "misconception"} <= kinds, exercise
+
+
+def test_hints_escalate_in_a_kernel(capsys):
+    """The nudge first; the formula only after a second wrong attempt in the same kernel."""
+    forward = define(PLANTS[5].source, "symplectic_euler_step")
+    FAILURES.pop(check.symplectic_euler_step.key, None)
+    check.symplectic_euler_step(forward)
+    first = capsys.readouterr().out
+    assert "this is forward Euler" in first and "x_new = x + dt v_new" not in first
+    check.symplectic_euler_step(forward)
+    assert "x_new = x + dt v_new (not x + dt v)" in capsys.readouterr().out
+    FAILURES.pop(check.symplectic_euler_step.key, None)
+
+
+def test_checks_report_pending_and_correct_to_results(capsys):
+    def stub(*args):
+        raise NotImplementedError()
+
+    for name in ("symplectic_euler_step", "velocity_verlet_step", "impact_time", "observed_order"):
+        getattr(check, name)(stub)
+        assert RESULTS[f"nb05.{name}"]["status"] == "pending"
+    check.impact_time(define(IMPACT_RIGHT, "impact_time"))
+    assert RESULTS["nb05.impact_time"]["status"] == "correct"
+    assert "✓ impact_time: correct" in capsys.readouterr().out

@@ -1,7 +1,10 @@
 """Checks for notebook 05, Newton's second law.
 
-Every exercise names the course_lib functions it must not call (besides the automatic ones
-of :mod:`course_lib.check.policy`): an answer that calls them earns nothing.
+An answer may call no course_lib function (nothing is handed over but the arguments: the
+right-hand side ``f``, the samples, the hidden run), see :mod:`course_lib.check.policy`.
+Hints come from the evidence: a known slip the answer reproduces, the times at which the
+answer evaluated ``f``, or which half of the state (positions, velocities) is wrong; with
+no evidence the check says what differs and nothing more.
 """
 
 from __future__ import annotations
@@ -9,11 +12,11 @@ from __future__ import annotations
 import numpy as np
 
 from .. import events, forces
-from ..integrators import symplectic_euler, velocity_verlet
+from ..integrators import integrate, symplectic_euler, velocity_verlet
 from ..lessons import nb05_newton as lesson
 from ..systems import newtonian, oscillator, stack_state, sum_forces
 from . import Checker, exercise
-from ._answers import step_cases
+from ._answers import as_array, close, mistake_hint, one_number, pure_call
 from .tolerance import blown_up, precision_rtol
 
 
@@ -37,12 +40,51 @@ def _cases():
              np.array([0.3, -1.2]), 0.1)]
 
 
-def _one_step(ck: Checker, step, reference, mistakes_for, hint: str) -> None:
-    """Run a student's one-step method on every case; blame only what it got wrong."""
-    step_cases(ck, step, _cases(), reference, mistakes_for, hint, rtol=1e-12, atol=1e-14)
+def _evidence(got, expected, y, calls, t, dt, times_wanted, tells) -> str | None:
+    """A hint from what the answer did: the times it called ``f`` at, or the first of
+    ``tells`` (``(test(answer, expected, y, dt), hint)``) that its numbers satisfy."""
+    odd = sorted({round(c - t, 12) for c in calls} - {round(w * dt, 12) for w in times_wanted})
+    if odd and t != 0.0:
+        shown = ", ".join("t" if s == 0 else f"t {'+' if s > 0 else '-'} {abs(s):.3g}"
+                          for s in (round(c - t, 12) for c in sorted(set(calls))))
+        return (f"your function evaluated f at {shown} (the step starts at t = {t:g} s): "
+                f"a force that depends on time needs the step's own times")
+    a = as_array(got)
+    if a is None or a.shape != expected.shape:
+        return None
+    for test, hint in tells:
+        if test(a, expected, y, dt):
+            return hint
+    return None
 
 
-@exercise
+def _same(a, b) -> bool:
+    return bool(np.allclose(a, b, rtol=1e-9, atol=1e-12))
+
+
+def _one_step(ck: Checker, step, reference, mistakes_for, times_wanted, tells) -> None:
+    """Run a student's one-step method on every case; blame only what the evidence shows."""
+    for what, f, t, y, dt in _cases():
+        expected, mistakes = reference(f, t, y.copy(), dt), mistakes_for(f, t, y.copy(), dt)
+        calls = []
+
+        def recorded(s, z, f=f, calls=calls):
+            calls.append(float(s))
+            return f(s, z)
+
+        ok, got = pure_call(ck, what, step, recorded, t, y, dt)
+        if not ok:
+            continue
+        answer = as_array(got)
+        if answer is not None and answer.size and not np.all(np.isfinite(answer)):
+            ck.expect(False, what, "your step returned NaN or inf")
+            continue
+        hint = mistake_hint(got, mistakes) or _evidence(got, expected, y, calls, t, dt,
+                                                        times_wanted, tells)
+        close(ck, got, expected, what, rtol=1e-12, atol=1e-14, hint=hint)
+
+
+@exercise(allow=())
 def symplectic_euler_step(ck: Checker, step) -> None:
     """``step(f, t, y, dt)``: new velocity first, then the position with it."""
     def mistakes(f, t, y, dt):
@@ -51,10 +93,11 @@ def symplectic_euler_step(ck: Checker, step) -> None:
         x_first = x + dt * v
         a_late = f(t + dt, y)[1]
         return {
-            "this is forward Euler: move x with the NEW velocity v + dt a, not the old one":
+            ("this is forward Euler: symplectic Euler moves x with the NEW velocity",
+             "v_new = v + dt a, then x_new = x + dt v_new (not x + dt v)"):
                 np.stack((x + dt * v, v + dt * a)),
-            "that is the other symplectic Euler (x first, then v from the new x); "
-            "here update v first": np.stack((x_first, v + dt * f(t, np.stack((x_first, v)))[1])),
+            "that is the other symplectic Euler (x first, then v from the new x); here the "
+            "velocity comes first": np.stack((x_first, v + dt * f(t, np.stack((x_first, v)))[1])),
             "the acceleration belongs to the start of the step: f(t, y), not f(t + dt, y)":
                 np.stack((x + dt * (v + dt * a_late), v + dt * a_late)),
             "a full step, not half of one: v_new = v + dt a": np.stack(
@@ -63,11 +106,17 @@ def symplectic_euler_step(ck: Checker, step) -> None:
                 np.stack((x + dt * (v + dt * a) + 0.5 * dt**2 * a, v + dt * a)),
         }
 
-    _one_step(ck, step, symplectic_euler, mistakes, hint=(
-        "v_new = v + dt f(t, y)[1]; x_new = x + dt v_new; return np.stack((x_new, v_new))"))
+    _one_step(ck, step, symplectic_euler, mistakes, times_wanted=(0,), tells=[
+        (lambda a, e, y, dt: _same(a[1], e[1]),
+         ("your velocities are right and your positions are not: move x with the velocity you "
+          "just computed", "x_new = x + dt v_new")),
+        (lambda a, e, y, dt: _same(a[0], y[0] + dt * a[1]),
+         ("your positions follow from your velocities, but the velocities are off: the "
+          "velocity changes by dt times the acceleration at the start of the step",
+          "v_new = v + dt f(t, y)[1]"))])
 
 
-@exercise
+@exercise(allow=())
 def velocity_verlet_step(ck: Checker, step) -> None:
     """``step(f, t, y, dt)``: half kick, drift, half kick with the force at the new position."""
     def mistakes(f, t, y, dt):
@@ -79,7 +128,8 @@ def velocity_verlet_step(ck: Checker, step) -> None:
             "the second half kick must use the acceleration at the NEW position "
             "f(t + dt, (x_new, v_half))[1], not the old one":
                 np.stack((x_new, v_half + 0.5 * dt * a)),
-            "use half kicks: v_half = v + dt/2 a, then x_new = x + dt v_half":
+            ("use half kicks: the drift moves x with the half-step velocity",
+             "v_half = v + dt/2 a, then x_new = x + dt v_half"):
                 np.stack((x + dt * (v + dt * a), v + dt * a)),
             "the new acceleration needs the new state (x_new, v_half): you passed the OLD "
             "velocity v, which matters as soon as the force depends on velocity (drag)":
@@ -90,42 +140,78 @@ def velocity_verlet_step(ck: Checker, step) -> None:
                 np.stack((x_new, v_half + dt * f(t + dt, np.stack((x_new, v_half)))[1])),
         }
 
-    _one_step(ck, step, velocity_verlet, mistakes, hint=(
-        "v_half = v + dt/2 a; x_new = x + dt v_half; "
-        "v_new = v_half + dt/2 f(t + dt, (x_new, v_half))[1]"))
+    _one_step(ck, step, velocity_verlet, mistakes, times_wanted=(0, 1), tells=[
+        (lambda a, e, y, dt: _same(a[1], e[1]),
+         ("your velocities are right and your positions are not: the drift uses the half-step "
+          "velocity", "x_new = x + dt v_half, v_half = v + dt/2 a")),
+        (lambda a, e, y, dt: _same(a[0], e[0]),
+         ("your positions are right and your velocities are not: look at the second half kick",
+          "v_new = v_half + dt/2 f(t + dt, (x_new, v_half))[1]"))])
 
 
-@exercise(reference=(events.first_crossing, events.crossing_linear))
-def impact_time(ck: Checker, impact) -> None:
-    """``impact(t, h)``: linear interpolation between the last sample above 0 and the first below."""
+def _impact_cases():
+    """(what, t, h): the apple by three methods, and data that breaks the shortcuts."""
     cases = []
     for method in ("forward_euler", "symplectic_euler", "velocity_verlet"):
         traj = lesson.apple_drop(method)
         cases.append((f"apple by {method}", traj.t, traj.y[:, 0, 0, 1]))
-    line = np.linspace(0.0, 1.0, 11)
-    cases.append(("a straight line h = 0.75 - t crosses at t = 0.75", line, 0.75 - line))
     cases.append(("samples that touch 0 exactly: h = (1, 0, -1) at t = (0, 1, 2)",
                   np.array([0.0, 1.0, 2.0]), np.array([1.0, 0.0, -1.0])))
-    for what, t, h in cases:
-        k = int(np.flatnonzero(h < 0)[0])
-        got = impact(t.copy(), h.copy())
-        if blown_up(ck, got, what, run=False):
-            continue
-        dt = t[k] - t[k - 1]
-        ck.close(got, events.first_crossing(t, h), what, rtol=precision_rtol(got, 1e-9), mistakes={
-            "you returned the time of the first step below ground; interpolate "
-            "between it and the step before": t[k],
-            "you returned the time of the last step above ground; interpolate "
-            "between it and the next step": t[k - 1],
-            "the fraction of the step is h[k-1] / (h[k-1] - h[k]), the part of the drop "
-            "still above ground; you used h[k] in the numerator":
-                t[k - 1] + dt * h[k] / (h[k - 1] - h[k]),
-            "the fraction of the step is h[k-1] / (h[k-1] - h[k]): mind the sign of the "
-            "denominator": t[k - 1] - dt * h[k - 1] / (h[k - 1] - h[k]),
+    t = np.linspace(0.0, 2.0, 21)
+    cases.append(("thrown up from the ground (h starts at 0, rises, then falls)", t,
+                  8.0 * t - 4.905 * t**2))
+    tb = np.linspace(0.0, 4.5, 46)
+    hb = np.abs(np.cos(2.2 * tb)) * np.exp(-0.3 * tb) - 0.25      # dips below 0 four times
+    cases.append(("a bouncing height that goes below 0 four times", tb, hb))
+    tu = np.cumsum(np.r_[0.0, np.random.default_rng(55).uniform(0.05, 0.3, 14)])
+    cases.append(("unevenly spaced samples", tu, 2.0 - 1.5 * tu**2 + 0.2 * np.sin(9 * tu)))
+    return cases
+
+
+def _impact_mistakes(t, h):
+    k = int(np.flatnonzero(h < 0)[0])
+    dt = t[k] - t[k - 1]
+    with np.errstate(all="ignore"):
+        out = {
+            "you returned the time of the first sample below ground; interpolate between it "
+            "and the sample before": t[k],
+            "you returned the time of the last sample above ground; interpolate between it "
+            "and the next one": t[k - 1],
+            "the fraction of the step is the part of the drop still above ground, h[k-1] / "
+            "(h[k-1] - h[k]); you put h[k] on top": t[k - 1] + dt * h[k] / (h[k - 1] - h[k]),
+            "mind the sign of the fraction: the crossing lies after t[k-1], not before":
+                t[k - 1] - dt * h[k - 1] / (h[k - 1] - h[k]),
             "you returned an index; return the time t*": k,
             "you returned the midpoint of the step; interpolate where the line meets 0":
                 0.5 * (t[k - 1] + t[k]),
-        }, hint="t* = t[k-1] + (t[k] - t[k-1]) h[k-1] / (h[k-1] - h[k])")
+            "these samples are not evenly spaced: the step is t[k] - t[k-1], not t[1] - t[0]":
+                t[k - 1] + (t[1] - t[0]) * h[k - 1] / (h[k - 1] - h[k]),
+            "np.interp needs increasing sample points, and h is not monotone here: find the "
+            "first sample below 0 and interpolate on that step": np.interp(0.0, h[::-1], t[::-1]),
+        }
+        later = np.flatnonzero((h[1:] < 0) & (h[:-1] >= 0)) + 1
+        if later.size > 1:
+            j = int(later[-1])
+            out["that is the last crossing: the impact is the FIRST time h goes below 0"] = (
+                t[j - 1] + (t[j] - t[j - 1]) * h[j - 1] / (h[j - 1] - h[j]))
+        start = np.flatnonzero(np.diff(np.sign(h)) != 0)
+        if h[0] == 0.0 and start.size:
+            out["h starts at 0 on the ground: a sign change from 0 to + is the throw, not the "
+                "impact; look for the first sample BELOW 0"] = float(t[0])
+    return out
+
+
+@exercise(allow=())
+def impact_time(ck: Checker, impact) -> None:
+    """``impact(t, h)``: linear interpolation between the last sample at or above 0 and the
+    first below, on data with several crossings, uneven steps and a start on the ground."""
+    for what, t, h in _impact_cases():
+        got = impact(t.copy(), h.copy())
+        value = one_number(ck, what, got, "a time in s")
+        if value is None:
+            continue
+        ck.close(value, events.first_crossing(t, h), what, rtol=precision_rtol(got, 1e-9),
+                 mistakes=_impact_mistakes(t, h))
 
 
 def _power_run(p: float, shape=(), seed: int = 0):
@@ -135,7 +221,39 @@ def _power_run(p: float, shape=(), seed: int = 0):
     return lambda dt: limit + C * dt**p + D * dt ** (p + 1)
 
 
-@exercise(reference=(lesson.three_grid_order,))
+def _pendulum_run(method: str):
+    f = lesson.pendulum()
+    return lambda dt: integrate(f, np.array([1.0, 0.0]), (0.0, 2.0), dt, method).y[-1]
+
+
+def _order_mistakes(coarse, middle, fine, p, err) -> tuple[dict, dict]:
+    """Wrong orders and wrong errors that the usual slips give."""
+    ratio = 2.0**p
+    d2 = err * (ratio - 1.0)
+    m1, m2 = np.abs(coarse - middle).max(), np.abs(middle - fine).max()
+    p_max = np.log2(m1 / m2)
+    orders = {
+        "use the base-2 logarithm: halving dt divides the difference by 2^p": np.log(ratio),
+        "use the base-2 logarithm, not base 10": np.log10(ratio),
+        "upside down: the coarse difference |y_h - y_h/2| goes on top": -p,
+        "the finest run is not exact: compare consecutive runs, (y_h - y_h/2) with "
+        "(y_h/2 - y_h/4)": np.log2(ratio + 1.0),
+        "you rounded p: a measured order is not a whole number; return it as measured":
+            float(np.round(p)),
+        "measure each difference with the Euclidean norm over all components "
+        "(np.linalg.norm), as the exercise says, not the largest entry": p_max,
+    }
+    errors = {
+        ("|y_h/2 - y_h/4| is the error of y_h/2 minus that of y_h/4, not the finest run's "
+         "own error", "divide it by 2^p - 1"): d2,
+        "|y_h - y_h/2| / (2^p - 1) is the error of the MIDDLE run; the finest run's is 2^p "
+        "times smaller": d2 * ratio / (ratio - 1.0),
+        "measure each difference with the Euclidean norm over all components": m2 / (2**p_max - 1),
+    }
+    return orders, errors
+
+
+@exercise(allow=())
 def observed_order(ck: Checker, func) -> None:
     """``func(run, dt) -> (p, error)``: order and finest-run error from three runs."""
     cases = [("a hidden first-order run, scalar result", _power_run(1.0, (), 1), 0.1),
@@ -151,12 +269,13 @@ def observed_order(ck: Checker, func) -> None:
             return run(h)
 
         got = func(recorded, dt)
+        coarse, middle, fine = (np.asarray(run(h), dtype=float) for h in (dt, dt / 2, dt / 4))
         p, err = lesson.three_grid_order(run, dt)
         wanted = np.array([dt / 4, dt / 2, dt])
         used = np.unique(np.round(np.array(asked) / dt, 12)) * dt
         if not asked:
             ck.expect(False, what, "your function never called run",
-                      hint="call run(dt), run(dt / 2) and run(dt / 4) and compare the results")
+                      hint="call run with the three steps and compare what it returns")
             continue
         if used.shape != wanted.shape or not np.allclose(used, wanted, rtol=1e-12):
             ck.expect(False, what, f"your function ran the steps {used.tolist()}",
@@ -167,29 +286,15 @@ def observed_order(ck: Checker, func) -> None:
         except (TypeError, ValueError):
             ck.expect(False, what, f"return a pair (p, error), got {got!r:.60}")
             continue
+        if np.ndim(got_p) or np.ndim(got_err):
+            ck.expect(False, what, f"p and the error must be numbers, got shapes "
+                      f"{np.shape(got_p)} and {np.shape(got_err)}",
+                      hint="the runs return arrays here: reduce each difference to one number "
+                           "with np.linalg.norm over all its components")
+            continue
         if blown_up(ck, [got_p, got_err], what, run=False):
             continue
-        ratio = 2.0**p
-        d2 = err * (ratio - 1.0)
-        ck.close(got_p, p, f"{what}: order", rtol=precision_rtol(got_p, 1e-9), mistakes={
-            "use the base-2 logarithm: halving dt divides the difference by 2^p": np.log(ratio),
-            "use the base-2 logarithm, not base 10": np.log10(ratio),
-            "upside down: the coarse difference |y_h - y_h/2| goes on top": -p,
-            "the finest run is not exact: compare consecutive runs, |y_h - y_h/2| / "
-            "|y_h/2 - y_h/4|": np.log2(2.0**p + 1.0),
-        }, hint="p = log2(|y_h - y_h/2| / |y_h/2 - y_h/4|)")
-        ck.close(got_err, err, f"{what}: error of the finest run", rtol=precision_rtol(got_err, 1e-9),
-                 mistakes={
-                     "|y_h/2 - y_h/4| is the error of y_h/2 minus that of y_h/4; divide by "
-                     "2^p - 1 to get the finest run's own error": d2,
-                     "|y_h - y_h/2| / (2^p - 1) is the error of the MIDDLE run; the finest "
-                     "run's is 2^p times smaller: use |y_h/2 - y_h/4|": d2 * ratio / (ratio - 1.0),
-                 }, hint="y_h/2 - y_h/4 ≈ C (h/4)^p (2^p - 1), and the finest run is off by "
-                         "C (h/4)^p")
-
-
-def _pendulum_run(method: str):
-    from ..integrators import integrate
-
-    f = lesson.pendulum()
-    return lambda dt: integrate(f, np.array([1.0, 0.0]), (0.0, 2.0), dt, method).y[-1]
+        orders, errors = _order_mistakes(coarse, middle, fine, p, err)
+        ck.close(got_p, p, f"{what}: order", rtol=precision_rtol(got_p, 1e-9), mistakes=orders)
+        ck.close(got_err, err, f"{what}: error of the finest run",
+                 rtol=precision_rtol(got_err, 1e-9), mistakes=errors)

@@ -6,6 +6,8 @@ Pure scenes built on the core (:mod:`course_lib.integrators`, :mod:`course_lib.s
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .. import forces
@@ -138,3 +140,74 @@ def three_grid_order(run, dt: float):
     d1, d2 = np.linalg.norm(coarse - middle), np.linalg.norm(middle - fine)
     p = float(np.log2(d1 / d2))
     return p, float(d2 / (2.0**p - 1.0))
+
+
+# --- notebook 05: the energy-band explorer's pure function --------------------------------
+
+#: The explorer's methods, in the order drawn.
+BAND_METHODS = ("forward_euler", "symplectic_euler", "velocity_verlet")
+
+
+def theory_band(method: str, omega: float, dt: float) -> tuple[float, float]:
+    """Band ``(lo, hi)`` of ``E/E0`` for an oscillator released at rest (``ω dt < 2``):
+    symplectic Euler ``1/(1 ± ω dt/2)`` (its modified energy is conserved), velocity Verlet
+    ``[1 - ω² dt²/4, 1]``; forward Euler has no band (``(lo, hi) = (1, inf)``)."""
+    h = omega * dt
+    if method == "symplectic_euler":
+        return 1.0 / (1.0 + 0.5 * h), (1.0 / (1.0 - 0.5 * h) if h < 2 else np.inf)
+    if method == "velocity_verlet":
+        return 1.0 - 0.25 * h * h, 1.0
+    return 1.0, np.inf
+
+
+@dataclass
+class EnergyBands:
+    """Result of :func:`energy_bands`: each method's energy on ``x'' = -ω² x`` at one step."""
+
+    dt: float                 #: the step (s)
+    omega: float              #: angular frequency (rad/s)
+    t: np.ndarray             #: times (s), shape (n+1,)
+    ratio: dict               #: method -> E/E0 at every step (NaN past 1e12)
+    band: dict                #: method -> theory band (lo, hi) of E/E0
+    spread: dict              #: method -> (min, max) of E/E0 over the run
+    stable: bool              #: symplectic Euler and Verlet bounded (ω dt < 2)
+    verdict: str
+
+
+def energy_bands(dt: float = 0.1, omega: float = 1.0, periods: float = 20.0) -> EnergyBands:
+    """Energy ``E/E0`` of the oscillator ``x'' = -ω² x`` released at rest from ``x = 1``,
+    by forward Euler, symplectic Euler and velocity Verlet, over ``periods`` periods.
+
+    Each method's step on this linear problem is a 2×2 matrix built from course_lib's own
+    steppers (:func:`~course_lib.lessons.nb07_spring_runs.step_matrix`); the run is its
+    powers, computed all at once (a few milliseconds whatever the number of steps), the
+    numbers of :func:`~course_lib.integrators.integrate` to round-off. Pure.
+    """
+    from .nb07_spring_runs import matrix_powers, step_matrix
+
+    if not (np.isfinite(dt) and dt > 0):
+        raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
+    n = max(1, round(periods * 2.0 * np.pi / (omega * dt)))
+    t = dt * np.arange(n + 1)
+    ratio, band, spread = {}, {}, {}
+    with np.errstate(over="ignore", invalid="ignore"):
+        for method in BAND_METHODS:
+            S = step_matrix(method, omega**2, 1.0, 0.0, dt)
+            x, v = (matrix_powers(S, n) @ np.array([1.0, 0.0])).T
+            e = (0.5 * v**2 + 0.5 * omega**2 * x**2) / (0.5 * omega**2)
+            past = np.flatnonzero(~(e <= 1e12))
+            if past.size:
+                e[past[0]:] = np.nan
+            ratio[method] = e
+            band[method] = theory_band(method, omega, dt)
+            spread[method] = (float(np.nanmin(e)), float(np.nanmax(e)))
+    stable = omega * dt < 2.0 and np.all(np.isfinite(ratio["symplectic_euler"]))
+    grow = ratio["forward_euler"][-1]
+    fe = (f"forward Euler × {grow:.2g}" if np.isfinite(grow) else "forward Euler past 1e12")
+    if stable:
+        (lo, hi), vlo = band["symplectic_euler"], band["velocity_verlet"][0]
+        verdict = (f"stable: symplectic Euler's E/E0 in [{lo:.3g}, {hi:.3g}], Verlet's up to "
+                   f"{(1 - vlo) * 100:.2g} % below 1; {fe} in {periods:g} periods")
+    else:
+        verdict = f"unstable (ω dt ≥ 2): symplectic Euler and Verlet grow; {fe}"
+    return EnergyBands(dt, omega, t, ratio, band, spread, bool(stable), verdict)
