@@ -223,22 +223,25 @@ def flee(x, predator, radius: float, strength: float, box: float | None = None):
     return strength * np.divide(d, dist2[:, None], out=np.zeros_like(d), where=near)
 
 
-def avoid(x, v, centers, radii, lookahead: float, strength: float, box: float | None = None):
+def avoid(x, v, centers, radii, lookahead: float, strength: float, box: float | None = None,
+          clearance: float = 0.0):
     """Steer to avoid (Reynolds 1999): a lateral acceleration (m/s², ``(N, dim)``) away from
     the nearest obstacle ahead.
 
     Each boid looks ``lookahead`` (m) along its heading ``u``. A sphere (a circle in 2D)
-    of centre ``c_k`` and radius ``ρ_k`` (``centers`` ``(K, dim)``, ``radii`` ``(K,)``, m)
-    is *ahead* when its centre projects onto the forward axis at ``0 < s < lookahead + ρ``
-    and its lateral offset ``p = (c − x) − s u`` is shorter than ``ρ``: flying on, the boid
-    would hit it. The nearest such obstacle (smallest ``s``) pushes the boid sideways,
-    along ``−p/|p|``, with ``strength × (1 − s / (lookahead + ρ))``: harder the closer it
-    is. A boid heading straight at the centre (``p = 0``) turns to its left (2D) or along
-    an axis across ``u``. A boid inside an obstacle is pushed straight out at full
-    ``strength``. Boids at rest do not steer.
+    of centre ``c_k`` and radius ``ρ_k`` (``centers`` ``(K, dim)``, ``radii`` ``(K,)``, m),
+    widened by ``clearance`` (m, the boid's half-width: the radius of Reynolds' cylinder
+    along the path), is *ahead* when its centre projects onto the forward axis at
+    ``0 < s < lookahead + ρ`` and its lateral offset ``p = (c − x) − s u`` is shorter than
+    ``ρ``: flying on, the boid would hit it. The nearest such obstacle (smallest ``s``)
+    pushes the boid sideways, along ``−p/|p|``, with ``strength × (1 − s/(lookahead + ρ))``
+    (m/s²): harder the closer it is. A boid heading straight at the centre (``p = 0``)
+    turns to its left (2D) or along an axis across ``u``. A boid inside an obstacle is
+    pushed straight out at full ``strength``. Boids at rest do not steer.
     """
     x, v = _state(x, v)
-    c, rho = np.asarray(centers, dtype=float).reshape(-1, x.shape[1]), np.ravel(radii).astype(float)
+    c = np.asarray(centers, dtype=float).reshape(-1, x.shape[1])
+    rho = np.ravel(radii).astype(float) + clearance
     out = np.zeros_like(x)
     if len(c) == 0:
         return out

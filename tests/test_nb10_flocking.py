@@ -5,10 +5,12 @@ import time
 import numpy as np
 import pytest
 
+import course_lib as cl
 from course_lib import boids as B
-from course_lib.check import RESULTS
+from course_lib.check import FAILURES, evaluate
 from course_lib.check import nb10 as check
 from course_lib.lessons import nb10_flocking as nb10
+from course_lib.lessons import nb10_studies as studies
 
 
 def test_three_boids_numbers():
@@ -23,19 +25,14 @@ def test_all_pairs_numbers_and_agreement():
     rng = np.random.default_rng(2026)
     rules = B.Rules(box=20.0)
     x, v = B.random_flock(300, 20.0, 1.5, rng)
-    i, j, _ = B.all_pairs(x, v, rules)
+    i, _j, _ = B.all_pairs(x, v, rules)
     count = np.bincount(i, minlength=300)
     assert len(i) == 1991 and f"{count.mean():.2f}" == "6.64" and np.sum(count == 0) == 0
     t = B.tree_pairs(x, v, rules)
-    assert np.array_equal(i, t[0]) and np.array_equal(j, t[1])
+    assert all(np.array_equal(a, b) for a, b in zip(B.all_pairs(x, v, rules), t, strict=True))
     for a, b in zip(B.steering(x, v, rules, "all_pairs"), B.steering(x, v, rules, "tree"),
                     strict=True):
-        assert np.abs(a - b).max() < 5e-14
-
-
-def test_tree_wins_at_a_few_hundred_boids():
-    timings = nb10.neighbour_timings([400, 800])
-    assert np.all(timings["tree"] * 5 < timings["all_pairs"])
+        assert np.abs(a - b).max() <= 1e-13 * np.abs(a).max()        # "agree to 1e-13"
 
 
 def test_random_references():
@@ -54,66 +51,119 @@ def test_random_references():
     assert abs(nn.mean() - B.random_nearest_distance(n, box)) < 2 * se_nn
 
 
-def test_big_flock_orders():
-    run = nb10.run_flock(n=300, box=28.0, steps=300)
-    assert f"{run.polarization[-1]:.3f}" == "0.938" and f"{run.random_polarization:.3f}" == "0.051"
-    assert f"{run.nn[-1]:.3f}" == "0.723" and f"{run.random_nn:.3f}" == "0.809"
-    assert run.nn[-1] < run.random_nn                                 # denser than random
-    assert f"{run.t[np.argmax(run.polarization > 0.5)]:.2f}" == "1.80"
-    assert run.t[-1] == pytest.approx(60.0)
+def test_timing_cells_run_and_agree():
+    # the times are the machine's (make bench judges the 20 ms target); the cell's own
+    # check that both methods give the same step is what is tested here
+    t = nb10.neighbour_timings([20, 80], repeats=1)
+    assert np.all(np.isfinite(t["all_pairs"])) and np.all(t["tree"] > 0)
+    assert np.isnan(nb10.neighbour_timings([720], repeats=1)["all_pairs"][0])
+    assert 16 * 320**2 / 1e6 == pytest.approx(1.6, abs=0.05)                 # "1.6 MB at N = 320"
 
 
-def test_alignment_relaxation_is_exact_and_its_step_limit():
-    for w, factor in [(2.5, 0.737), (12.5, -0.316), (22.5, -1.368)]:
+# --- chaotic runs: quoted and asserted over the eight seeds ----------------------------
+
+
+@pytest.fixture(scope="module")
+def flock60():
+    return studies.ensemble(steps=300, snapshot_at=100)
+
+
+@pytest.mark.roundoff
+def test_the_flock_forms_in_seven_runs_of_eight(flock60):
+    assert len(flock60.final) == 8
+    assert np.sum(flock60.final > 0.9) == 7 and np.sum(flock60.t_order < 12) == 7
+    assert np.all(flock60.spacing < flock60.random_nn) and np.all(flock60.spacing > 0.5)
+    assert f"{flock60.random_polarization:.3f}" == "0.072" and f"{flock60.random_nn:.3f}" == "0.817"
+    low = np.argmin(flock60.final)                                  # "the eighth ... not merged"
+    assert flock60.final[low] < 0.5
+    # the nearest-neighbour distance drops below random "within a few seconds" in every run
+    first = np.argmax(flock60.nn < flock60.random_nn, axis=1)
+    assert np.all(flock60.t_nn[first] <= 5.0)
+
+
+@pytest.mark.roundoff
+def test_the_same_flock_under_two_roundings():
+    for how in ("ulp", "order"):
+        t, d, pol = studies.divergence(0, 600, how)
+        at = {s: np.flatnonzero(np.isclose(t, s))[0] for s in (1, 15, 60)}
+        assert d[at[1]] < 1e-14 and d[at[15]] < 1e-9 and d[at[60]] < 0.1
+        assert d[t > 100].max() > 1.0
+        assert np.abs(pol[0] - pol[1])[: at[60] + 1].max() < 0.002
+        assert np.abs(pol[0] - pol[1]).max() < 0.05
+        assert 2.0 <= 1 / studies.growth_rate(t, d) <= 3.0             # "× e every 2 to 3 s"
+    x, _ = B.random_flock(150, 20.0, 1.0, np.random.default_rng(0))
+    assert np.spacing(x[0, 0]) == pytest.approx(1.8e-15, rel=0.02)     # the one-ulp nudge
+    with pytest.raises(ValueError, match="how"):
+        studies.divergence(0, 2, "shuffle")
+
+
+@pytest.mark.roundoff
+def test_alignment_relaxation_follows_the_factor_within_its_round_off_bound():
+    """The bound is derived (n + 8 roundings of the largest speed per step, carried by the
+    factor), not copied from a run: 1.13e-10 on AVX-512, 5.6e-11 on AVX2, both inside it."""
+    for w, factor, worst in [(2.5, 0.737, 1e-10), (12.5, -0.316, 2e-7), (22.5, -1.368, 1e-12)]:
         assert 1 - w * 0.1 * 20 / 19 == pytest.approx(factor, abs=5e-4)
-        rms, exact, drift = nb10.relaxation(w)
-        ok = exact > 1e-8 * rms[0]
-        assert np.abs(rms / exact - 1)[ok].max() < 1e-10
-        assert drift < 1e-12
-    assert 1 / nb10.DT == pytest.approx(5.0)                   # two boids alone: w dt < 1
-    assert 2 / nb10.DT == pytest.approx(10.0)                  # everyone in view: w dt < 2 (n large)
+        rms, exact, drift, bound = studies.relaxation(w)
+        compared = exact > 1e-8 * rms[0]
+        assert compared.sum() >= 4
+        assert np.all(np.abs(rms - exact)[compared] <= bound[compared])
+        assert (bound / exact)[compared].max() <= worst
+        assert drift <= bound.max()
+    # the bound is not vacuous: a wrong factor (one boid too few) breaks it at once
+    rms, exact, _, bound = studies.relaxation(12.5)
+    wrong = rms[0] * abs(1 - 12.5 * 0.1 * 19 / 18) ** np.arange(rms.size)
+    assert np.any(np.abs(rms - wrong)[1:5] > bound[1:5])
+    assert 1 / nb10.DT == pytest.approx(5.0) and 2 / nb10.DT == pytest.approx(10.0)
 
 
-def test_alignment_sweep_table():
-    table = {2.0: (0.518, 0.996), 4.0: (0.998, 1.000), 6.0: (0.977, 0.999),
-             8.0: (0.090, -0.797), 12.0: (0.010, -0.953)}
-    for w, (pol, rev) in table.items():
-        run = nb10.run_flock(alignment=w)
-        assert round(run.polarization[-1], 3) == pol and round(run.reversal, 3) == rev
-    assert 6.0 * nb10.DT == pytest.approx(1.2) and 8.0 * nb10.DT == pytest.approx(1.6)
-    assert nb10.run_flock(alignment=8.0).polarization[-1] < 1.5 * B.random_polarization(nb10.N_BOIDS)
+@pytest.mark.roundoff
+def test_alignment_sweep_over_eight_seeds(flock60):
+    sweep = {2.0: flock60.until(15.0)}
+    sweep.update({w: studies.ensemble(alignment=w) for w in (4.0, 6.0, 8.0)})
+    counts = {w: (int(np.sum(e.final > 0.9)), int(np.sum(e.t_order <= 7.0)), int(np.sum(e.reversal < 0)))
+              for w, e in sweep.items()}
+    assert counts == {2.0: (4, 5, 0), 4.0: (8, 8, 0), 6.0: (8, 8, 0), 8.0: (0, 0, 8)}
+    default = sweep[2.0]
+    assert np.sum(default.t_order > 7.0) == 3 and np.sum(np.isinf(default.t_order)) == 1
+    assert np.all(sweep[8.0].final < 0.1) and np.all(sweep[8.0].reversal < -0.8)   # "near −0.9"
+    assert np.all(sweep[8.0].reversal > -0.95)
+    assert 0.5 <= (2 - 1) / 2 and (20 - 1) / 20 < 1                       # (n − 1)/n in [1/2, 1)
 
 
-def test_predator_numbers():
-    flee = nb10.chase()
-    bare = nb10.chase(flee_strength=0.0)
-    assert flee.t[-1] == pytest.approx(15.0)
-    assert f"{np.median(flee.closest):.2f}" == "1.55" and np.all(flee.closest > 0.5)   # never
-    assert f"{flee.closest.min():.3f}" == "0.854"
-    first = np.argmin(flee.closest)
-    assert flee.t[first] == pytest.approx(3.0, abs=0.3)                # "about 3 s in"
-    assert f"{np.median(bare.closest):.2f}" == "0.20" and round(100 * np.mean(bare.closest < 0.5)) == 81
-    assert f"{bare.closest.min():.3f}" == "0.006"
-    peak = np.argmax(flee.closest[first:]) + first                     # grows, then shrinks
-    assert flee.closest[peak] > 2.0 and flee.closest[-1] < flee.closest[peak] - 0.8
+@pytest.mark.roundoff
+def test_predator_over_eight_seeds(flock60):
+    chases = [studies.chase(seed, formed=flock60.snapshots[seed]) for seed in studies.SEEDS]
+    assert all(5.0 <= c.start <= 8.5 for c in chases)
+    assert all(c.closest[3.0].min() > 0.5 for c in chases)
+    assert all(np.mean(c.closest[0.0] < 0.5) >= 0.45 for c in chases)
+    assert all(np.median(c.closest[3.0]) > 3 * np.median(c.closest[0.0]) for c in chases)
+    # the shared start is the same seed's run after 100 steps
+    alone = studies.chase(0)
+    assert np.array_equal(alone.closest[0.0], chases[0].closest[0.0])
 
 
-def test_key_states():
-    quoted = {"default": {}, "separation 0": {"separation": 0.0}, "alignment 0": {"alignment": 0.0},
-              "cohesion 0": {"cohesion": 0.0}}
-    values = {"default": (0.52, 0.68), "separation 0": (0.30, 0.00), "alignment 0": (0.09, 0.77),
-              "cohesion 0": (0.76, 1.15)}
-    for label, kw in quoted.items():
-        run = nb10.run_flock(**kw)
-        assert (round(run.polarization[-1], 2), round(run.nn[-1], 2)) == values[label]
-        if label == "cohesion 0":
-            assert run.nn[-1] > run.random_nn                        # spread out, beyond random
-            assert f"{run.random_nn:.2f}" == "0.82"
-        if label == "separation 0":
-            assert f"{run.nn[-1] * 1000:.0f}" == "5"                  # "drops to 5 mm"
-        if label == "alignment 0":
-            assert f"{run.random_polarization:.2f}" == "0.07"
-    assert nb10.DT * nb10.STEPS == pytest.approx(15.0)
+@pytest.mark.roundoff
+def test_pillars_over_eight_seeds():
+    avoiding = [studies.pillars(seed) for seed in studies.SEEDS]
+    ignoring = [studies.pillars(seed, strength=0.0) for seed in studies.SEEDS]
+    assert all(r[0] == 0 and r[1] > 0.3 for r in avoiding)
+    assert all(r[0] > 0.01 for r in ignoring) and all(r[0] < 0.1 for r in ignoring)   # "a few percent"
+    _centers, radii = studies.PILLARS
+    assert sorted(radii.tolist()) == [1.0, 1.5, 2.0]
+
+
+@pytest.mark.roundoff
+def test_key_states_over_eight_seeds(flock60):
+    random_nn = flock60.random_nn
+    ens = {"default": flock60.until(15.0), "separation 0": studies.ensemble(separation=0.0),
+           "alignment 0": studies.ensemble(alignment=0.0), "cohesion 0": studies.ensemble(cohesion=0.0)}
+    below_10cm = {k: int(np.sum(e.spacing < 0.1)) for k, e in ens.items()}
+    assert below_10cm == {"default": 0, "separation 0": 8, "alignment 0": 0, "cohesion 0": 0}
+    assert np.all(ens["cohesion 0"].spacing > random_nn) and np.all(ens["default"].spacing < random_nn)
+    assert np.sum(ens["alignment 0"].spacing < random_nn) == 5
+    assert np.all(ens["alignment 0"].final < 0.15)
+    assert not np.any(ens["default"].final < 0.15) and not np.any(ens["cohesion 0"].final < 0.15)
+    assert f"{random_nn:.2f}" == "0.82" and f"{flock60.random_polarization:.2f}" == "0.07"
 
 
 def test_flock_explorer_view():
@@ -161,11 +211,24 @@ def test_flock_plot_keeps_its_limits_ticks_and_label_places():
     plt.close(auto)
 
 
-# --- the exercise checks -------------------------------------------------------------------
+# --- the exercise checks: planted answers ----------------------------------------------
 
 
-def _status(name):
-    return RESULTS[f"nb10.{name}"]["status"]
+def notebook_answer(source: str, name: str):
+    """A function defined the way a notebook cell defines it (module ``__main__``)."""
+    namespace = {"__name__": "__main__", "np": np, "cl": cl, "boids": B}
+    exec(compile(source, "<cell>", "exec"), namespace)
+    return namespace[name]
+
+
+def judged(check_fn, answer, attempt: int = 0) -> tuple[str, str]:
+    """(status, every failure message) of ``answer``, as after ``attempt`` wrong tries."""
+    FAILURES.pop(check_fn.key, None)
+    if attempt:
+        FAILURES[check_fn.key] = attempt
+    verdict = evaluate(check_fn, answer)
+    FAILURES.pop(check_fn.key, None)
+    return verdict["status"], "\n".join(verdict["failed_cases"])
 
 
 def _right(i, j, d, n):
@@ -175,66 +238,166 @@ def _right(i, j, d, n):
     return S
 
 
-def test_check_separation(capsys):
-    check.separation(_right)
-    assert _status("separation") == "correct"
-    capsys.readouterr()
+def _buffered(i, j, d, n):
+    S = np.zeros((n, 2))
+    S[i] -= d / np.einsum("pk,pk->p", d, d)[:, None]
+    return S
 
-    def buffered(i, j, d, n):
-        S = np.zeros((n, 2))
-        S[i] -= d / np.einsum("pk,pk->p", d, d)[:, None]
-        return S
 
-    def unit(i, j, d, n):
-        S = np.zeros((n, 2))
-        np.add.at(S, i, -d / np.linalg.norm(d, axis=1)[:, None])
-        return S
+def _unit(i, j, d, n):
+    S = np.zeros((n, 2))
+    np.add.at(S, i, -d / np.linalg.norm(d, axis=1)[:, None])
+    return S
 
-    def mean(i, j, d, n):
-        return _right(i, j, d, n) / np.maximum(np.bincount(i, minlength=n), 1)[:, None]
 
-    def at_j(i, j, d, n):
-        S = np.zeros((n, 2))
-        np.add.at(S, j, -d / np.einsum("pk,pk->p", d, d)[:, None])
-        return S
+def _at_j(i, j, d, n):
+    S = np.zeros((n, 2))
+    np.add.at(S, j, -d / np.einsum("pk,pk->p", d, d)[:, None])
+    return S
 
-    def in_place(i, j, d, n):
-        d /= np.einsum("pk,pk->p", d, d)[:, None]
-        S = np.zeros((n, 2))
-        np.add.at(S, i, -d)
-        return S
 
-    for func, hint in [(lambda i, j, d, n: -_right(i, j, d, n), "sign"), (buffered, "buffers"),
-                       (unit, "not |d|"), (mean, "do not average"), (at_j, "accumulate at i"),
-                       (in_place, "changed its input"),
-                       (lambda i, j, d, n: -d / np.einsum("pk,pk->p", d, d)[:, None], "one row per boid")]:
-        check.separation(func)
-        assert _status("separation") == "incorrect"
-        assert hint in capsys.readouterr().out
+def _in_place(i, j, d, n):
+    d /= np.einsum("pk,pk->p", d, d)[:, None]
+    S = np.zeros((n, 2))
+    np.add.at(S, i, -d)
+    return S
+
+
+SEPARATION_PLANTED = {
+    "right": (_right, "correct", None),
+    "by bincount": (lambda i, j, d, n: -np.stack([np.bincount(i, d[:, k] / (d**2).sum(1), minlength=n)
+                                                  for k in range(2)], axis=1), "correct", None),
+    "delegates to the library": (notebook_answer(
+        "def separation(i, j, d, n):\n"
+        "    x = np.zeros((n, 2))\n"
+        "    return boids.steering(x, np.ones((n, 2)), boids.Rules())[0]", "separation"),
+        "incorrect", "uses the reference: your function calls course_lib.boids"),
+    "sign": (lambda i, j, d, n: -_right(i, j, d, n), "incorrect", "sign: separation pushes boid i away"),
+    "S[i] -= w (buffered)": (_buffered, "incorrect", "applies each index only once"),
+    "unit push": (_unit, "incorrect", "what is its size at distance"),
+    "averaged": (lambda i, j, d, n: _right(i, j, d, n) / np.maximum(np.bincount(i, minlength=n), 1)[:, None],
+                 "incorrect", "do not average"),
+    "at j": (_at_j, "incorrect", "accumulate at i"),
+    "changes its input": (_in_place, "incorrect", "changed its input"),
+    "one row per pair": (lambda i, j, d, n: -d / np.einsum("pk,pk->p", d, d)[:, None], "incorrect",
+                         "one row per boid"),
+}
+
+
+@pytest.mark.parametrize("planted", sorted(SEPARATION_PLANTED))
+def test_check_separation_planted(planted):
+    answer, status, nudge = SEPARATION_PLANTED[planted]
+    got, messages = judged(check.separation, answer)
+    assert got == status, (planted, messages)
+    if nudge:
+        assert nudge in messages, (planted, messages)
+
+
+def test_check_separation_escalates_and_is_pending_when_blank():
+    assert "np.add.at" not in judged(check.separation, _buffered)[1]
+    assert "np.add.at" in judged(check.separation, _buffered, attempt=1)[1]
 
     def pending(i, j, d, n):
         raise NotImplementedError()
 
-    check.separation(pending)
-    assert _status("separation") == "pending"
+    assert judged(check.separation, pending)[0] == "pending"
 
 
 def test_check_flock_breaker(capsys):
-    check.flock_breaker(lambda: ("separation", "A"))
-    assert _status("flock_breaker") == "correct"
-    check.flock_breaker(lambda: ("Separation ", "a"))
-    assert _status("flock_breaker") == "correct"
-    capsys.readouterr()
+    assert judged(check.flock_breaker, lambda: ("separation", "A"))[0] == "correct"
+    assert judged(check.flock_breaker, lambda: ("Separation ", "a"))[0] == "correct"
     for answer, hint in [(("cohesion", "A"), "spacing grows"), (("alignment", "A"), "headings stay random"),
                          (("separation", "B"), "not chance"), (("separation", "C"), "never stop"),
                          (("separation", "D"), "parallel boids keep"), (("gravity", "A"), "one of"),
                          ("separation", "(weight, letter)")]:
-        check.flock_breaker(lambda answer=answer: answer)
-        assert _status("flock_breaker") == "incorrect"
-        assert hint in capsys.readouterr().out
+        status, messages = judged(check.flock_breaker, lambda answer=answer: answer)
+        assert status == "incorrect" and hint in messages, (answer, messages)
 
     def pending():
         raise NotImplementedError()
 
-    check.flock_breaker(pending)
-    assert _status("flock_breaker") == "pending"
+    assert judged(check.flock_breaker, pending)[0] == "pending"
+
+
+def _grid_source(cell_side="radius", offsets=(-1, 0, 1), compare="<=", keep="i < j"):
+    """A uniform-grid answer with one thing changed, as a notebook cell would write it."""
+    return f"""
+def neighbour_pairs(x, radius):
+    x = np.asarray(x, dtype=float)
+    side = {cell_side}
+    cell = np.floor(x / side).astype(np.int64)
+    cells = {{}}
+    for k, c in enumerate(map(tuple, cell)):
+        cells.setdefault(c, []).append(k)
+    i_all, j_all = [], []
+    for (cx, cy), members in cells.items():
+        for dx in {offsets}:
+            for dy in {offsets}:
+                others = cells.get((cx + dx, cy + dy), [])
+                for a in members:
+                    for b in others:
+                        i_all.append(a)
+                        j_all.append(b)
+    i, j = np.array(i_all, dtype=int), np.array(j_all, dtype=int)
+    if i.size == 0:
+        return i, j
+    d = x[j] - x[i]
+    keep = ({keep}) & ((d ** 2).sum(axis=1) {compare} radius ** 2)
+    return i[keep], j[keep]
+"""
+
+
+NEIGHBOUR_PLANTED = {
+    "the notebook's vectorized grid": (None, "correct", None),
+    "a loop over cells": (_grid_source(), "correct", None),
+    "delegates to the library": ("def neighbour_pairs(x, radius):\n"
+                                 "    p = cl.neighbors.pairs(x, radius)\n    return p.i, p.j",
+                                 "incorrect", "uses the reference: your function calls course_lib.neighbors"),
+    "a k-d tree (scipy.spatial is refused)": (
+        "def neighbour_pairs(x, radius):\n    from scipy.spatial import cKDTree\n"
+        "    p = cKDTree(x).query_pairs(radius, output_type='ndarray')\n    return p[:, 0], p[:, 1]",
+        "incorrect", "uses the reference: your function"),
+    "same cell only": (_grid_source(offsets=(0,)), "incorrect", "pairs in neighbouring cells are missing"),
+    "cells of half the radius, 3 × 3 block": (_grid_source(cell_side="radius / 2"), "incorrect",
+                                              "pairs in neighbouring cells are missing"),
+    "strict < (broken by pairs at exactly the radius)": (_grid_source(compare="<"), "incorrect",
+                                                          "a pair exactly `radius` apart counts"),
+    "both orders": (_grid_source(keep="i != j"), "incorrect", "each pair once, with i < j"),
+    "itself included": (_grid_source(keep="i <= j"), "incorrect", "a point is paired with itself"),
+    "no distance test": (_grid_source(compare="< np.inf +"), "incorrect",
+                         "farther apart than the radius"),
+    "an N × N table": ("def neighbour_pairs(x, radius):\n"
+                       "    d2 = ((x[None, :, :] - x[:, None, :]) ** 2).sum(axis=-1)\n"
+                       "    i, j = np.nonzero(np.triu(d2 <= radius ** 2, 1))\n    return i, j",
+                       "incorrect", "that is an N × N table"),
+}
+
+
+@pytest.fixture(scope="module")
+def grid_solution():
+    import nbformat
+    from notebook_helpers import ROOT
+    nb = nbformat.read(ROOT / "solutions" / "10_flocking.ipynb", as_version=4)
+    (cell,) = [c for c in nb.cells if c.cell_type == "code" and "def neighbour_pairs(" in c.source]
+    return cell.source[: cell.source.index("check.")]
+
+
+@pytest.mark.parametrize("planted", sorted(NEIGHBOUR_PLANTED))
+def test_check_neighbour_pairs_planted(planted, grid_solution):
+    source, status, nudge = NEIGHBOUR_PLANTED[planted]
+    answer = notebook_answer(grid_solution if source is None else source, "neighbour_pairs")
+    got, messages = judged(check.neighbour_pairs, answer)
+    assert got == status, (planted, messages)
+    if nudge:
+        assert nudge in messages, (planted, messages)
+
+
+def test_check_neighbour_pairs_escalates_and_is_pending_when_blank():
+    same_cell = notebook_answer(_grid_source(offsets=(0,)), "neighbour_pairs")
+    assert "3 × 3 cells" not in judged(check.neighbour_pairs, same_cell)[1]
+    assert "3 × 3 cells" in judged(check.neighbour_pairs, same_cell, attempt=1)[1]
+
+    def pending(x, radius):
+        raise NotImplementedError()
+
+    assert judged(check.neighbour_pairs, pending)[0] == "pending"

@@ -1,11 +1,24 @@
-"""Checks for notebook 10, flocking: the separation rule, and which weight breaks the flock."""
+"""Checks for notebook 10, flocking: the separation rule, which weight breaks the flock,
+and a neighbour search with a uniform grid.
+
+No answer may call the library (``allow=()``); the neighbour search may not call
+``scipy.spatial`` either (the exercise is the grid, not the k-d tree). Its check compares
+with the all-pairs reference :func:`course_lib.neighbors.all_pairs` on data that breaks the
+usual shortcuts (pairs in diagonal cells, at exactly the radius, coincident points, points
+far apart in one wide cell) and measures the memory an answer holds at once, which tells
+a grid from an N × N table.
+"""
 
 from __future__ import annotations
 
+import inspect
+import tracemalloc
+
 import numpy as np
 
-from .. import boids
+from .. import boids, neighbors
 from . import Checker, exercise
+from .policy import name_chains
 
 _SEED = 1010
 
@@ -40,7 +53,7 @@ def _close_rows(ck: Checker, got, expected, what, mistakes) -> None:
               hint=hint)
 
 
-@exercise
+@exercise(allow=())
 def separation(ck: Checker, func) -> None:
     """``func(i, j, d, n) -> (n, 2)``: ``S_i = −Σ d_ij / |d_ij|²`` over the pairs of ``i``."""
     rng = np.random.default_rng(_SEED)
@@ -55,18 +68,21 @@ def separation(ck: Checker, func) -> None:
         last = np.zeros((n, 2))
         last[i] = -w                                             # what S[i] -= w keeps
         mistakes = {
-            "sign: separation pushes boid i away from j, along -d_ij (d_ij = x_j - x_i)":
-                -expected,
-            "divide by |d|², not |d|: the push must grow as two boids close in":
+            ("sign: separation pushes boid i away from j", "sign: separation pushes boid i "
+             "away from j, along -d_ij (d_ij = x_j - x_i)"): -expected,
+            ("the push must grow as two boids close in: what is its size at distance |d|?",
+             "divide by |d|², not |d|: d/|d|² is a push of size 1/|d|"):
                 -_scatter(i, d / np.sqrt(r2)[:, None], n),
-            "d/|d|³ is a 1/r² push; the rule is d/|d|², a push of size 1/|d|":
-                -_scatter(i, d / (r2 ** 1.5)[:, None], n),
-            "sum over the neighbours, do not average: more crowding must push harder":
+            ("d/|d|³ is a push of size 1/|d|²; the rule's push has size 1/|d|",
+             "the rule is d/|d|², a push of size 1/|d|"): -_scatter(i, d / (r2 ** 1.5)[:, None], n),
+            ("sum over the neighbours, do not average: more crowding must push harder",
+             "sum over the neighbours, do not average: more crowding must push harder"):
                 expected / count,
-            "S[i] -= w with repeated indices in i applies each index only once (NumPy "
-            "buffers fancy-index updates): use np.add.at(S, i, -w) or np.bincount": last,
-            "accumulate at i, the boid that sees its neighbour j, not at j":
-                -_scatter(j, w, n),
+            ("with repeated indices in i, S[i] -= w applies each index only once (NumPy "
+             "buffers fancy-index updates)", "use np.add.at(S, i, -w) or np.bincount(i, weights) "
+             "per column: both add every pair"): last,
+            ("accumulate at i, the boid that sees its neighbour j, not at j",
+             "accumulate at i, the boid that sees its neighbour j, not at j"): -_scatter(j, w, n),
         }
         args = (i.copy(), j.copy(), d.copy(), n)
         got = func(*args)
@@ -95,7 +111,7 @@ REASONS = {
 }
 
 
-@exercise
+@exercise(allow=())
 def flock_breaker(ck: Checker, func) -> None:
     """``func() -> (weight, reason)``: the weight whose absence piles boids up, and why."""
     answer = func()
@@ -105,10 +121,10 @@ def flock_breaker(ck: Checker, func) -> None:
         return
     weight, reason = (str(a).strip().lower() for a in answer)
     hints = {
-        "alignment": "without alignment the headings stay random (polarization near 0.1), but "
-                     "the boids keep their distance: nothing piles up",
+        "alignment": "without alignment the headings stay random (polarization near that of "
+                     "random headings), but the boids keep their distance: nothing piles up",
         "cohesion": "without cohesion nothing pulls the boids together: their spacing grows "
-                    "(1.2 m in the key states), the opposite of piling up",
+                    "beyond that of random placement, the opposite of piling up",
     }
     if not ck.expect(weight in WEIGHTS, "the weight is one of the three",
                      f"got {weight!r}", hint=f"answer one of {', '.join(WEIGHTS)}"):
@@ -123,3 +139,113 @@ def flock_breaker(ck: Checker, func) -> None:
     }
     ck.expect(reason == "a", "the reason", f"you chose {reason.upper()!r}",
               hint=why.get(reason, "answer one of the letters A, B, C, D"))
+
+
+# --- a neighbour search with a uniform grid ---------------------------------------------
+
+#: Memory (bytes) an answer may hold at once for the 2000-point case: a grid needs well
+#: under a megabyte; one N × N table of float64 needs 32 MB.
+MEMORY_LIMIT = 12_000_000
+
+
+def _grid_cases():
+    """Point sets that break the usual shortcuts of a grid search (radius in m)."""
+    rng = np.random.default_rng(_SEED + 3)
+    yield "3-4-5: a pair at exactly the radius (5 m) in diagonal cells, one just beyond", \
+        np.array([[0.0, 0.0], [3.0, 4.0], [3.0, np.nextafter(4.0, 5.0) + 1e-9], [-3.0, -4.0]]), 5.0
+    yield "a row of points exactly one radius apart", np.column_stack((0.5 * np.arange(12.0),
+                                                                        np.zeros(12))), 0.5
+    yield "coincident points and negative coordinates", np.array(
+        [[-1.2, -0.3], [-1.2, -0.3], [-0.3, -1.1], [0.4, 0.2], [-2.9, -2.9], [-2.2, -2.1]]), 1.0
+    yield "one point", np.array([[1.0, 2.0]]), 1.0
+    yield "no pair at all", np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]]), 1.0
+    yield "300 points in two tight clusters and a sparse cloud", np.concatenate((
+        rng.normal(0.0, 0.3, (120, 2)), rng.normal(5.0, 0.2, (80, 2)),
+        rng.uniform(-10.0, 15.0, (100, 2)))), 0.7
+    yield "2000 points in a 50 m square, radius 1 m", rng.uniform(0.0, 50.0, (2000, 2)), 1.0
+
+
+def _pair_set(i, j):
+    return set(zip(np.asarray(i).tolist(), np.asarray(j).tolist(), strict=True))
+
+
+def _imports_inside(func, prefix: str) -> list[str]:
+    """Dotted paths under ``prefix`` that ``func`` imports inside its body. The shared rule
+    (``forbid=``) reads names bound outside the function and watches calls of Python code;
+    a C class imported inside the body (``from scipy.spatial import cKDTree``) reaches
+    neither, so this check reads those imports from the bytecode too."""
+    code = getattr(inspect.unwrap(func), "__code__", None)
+    if code is None:
+        return []
+    return sorted({head for kind, head, _ in name_chains(code)
+                   if kind == "path" and (head == prefix or head.startswith(prefix + "."))})
+
+
+@exercise(allow=(), forbid=("scipy.spatial",))
+def neighbour_pairs(ck: Checker, func) -> None:
+    """``func(x, radius) -> (i, j)``: every pair ``i < j`` with ``|x_i − x_j| <= radius``,
+    each once, ``x`` of shape ``(N, 2)`` in open space."""
+    if found := _imports_inside(func, "scipy.spatial"):
+        ck.expect(False, f"uses the reference: your function imports {', '.join(found)}",
+                  "this exercise asks for a grid of your own; scipy.spatial's trees are refused",
+                  hint=("bin the points into cells of side radius with np.floor(x / radius)",))
+        return
+    for what, x, radius in _grid_cases():
+        ref = neighbors.all_pairs(x, radius)
+        expected = _pair_set(ref.i, ref.j)
+        tracemalloc.start()
+        try:
+            got = func(x.copy(), radius)
+            peak = tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+        try:
+            i, j = (np.asarray(a).astype(int).ravel() for a in got)
+        except (TypeError, ValueError):
+            ck.expect(False, what, f"expected a pair of index arrays (i, j), got {type(got).__name__}",
+                      hint=("return two arrays of the same length: i[p] and j[p] are pair p",))
+            continue
+        if i.shape != j.shape:
+            ck.expect(False, what, f"i and j differ in length ({i.size} and {j.size})")
+            continue
+        pairs = list(zip(i.tolist(), j.tolist(), strict=True))
+        found = set(pairs)
+        wrong = []
+        if any(a == b for a, b in pairs):
+            wrong.append(("a point is paired with itself",
+                          "a point is not its own neighbour: keep pairs with i != j"))
+        elif any(a > b for a, b in pairs) and {(min(a, b), max(a, b)) for a, b in pairs} == expected:
+            wrong.append(("each pair once, with i < j", "keep the pairs with i < j: (i, j) and "
+                          "(j, i) are the same pair"))
+        elif len(pairs) != len(found):
+            wrong.append(("some pairs appear twice: each pair once",
+                          "a pair met from both of its cells is listed twice: keep i < j, or "
+                          "visit only half of the neighbouring cells"))
+        missing, extra = expected - found, found - expected
+        if not wrong and missing:
+            at_radius = [p for p in missing if np.isclose(ref.distance[
+                np.flatnonzero((ref.i == p[0]) & (ref.j == p[1]))[0]], radius, rtol=1e-12)]
+            if at_radius and len(at_radius) == len(missing):
+                wrong.append(("a pair exactly `radius` apart counts: |d| <= radius",
+                              "compare |d|² <= radius², not <"))
+            else:
+                wrong.append(("pairs in neighbouring cells are missing",
+                              "with cells of side radius, a point's neighbours can lie in any of "
+                              "the 3 × 3 cells around its own; cells smaller than the radius "
+                              "need more than that"))
+        if not wrong and extra:
+            wrong.append(("some pairs you return are farther apart than the radius",
+                          "a shared or neighbouring cell is not enough: test |d|² <= radius² "
+                          "for every candidate pair"))
+        if wrong:
+            ck.expect(False, what, f"{len(found & expected)} of {len(expected)} pairs found, "
+                      f"{len(extra)} not pairs, {len(pairs) - len(found)} repeated", hint=wrong[0])
+            continue
+        if x.shape[0] >= 2000:
+            ck.expect(peak <= MEMORY_LIMIT, f"{what}: memory held at once",
+                      f"your function held {peak / 1e6:.0f} MB at once for {len(x)} points",
+                      hint=("that is an N × N table: bin the points into cells instead",
+                            "an N × N table of distances grows as N²: bin the points into "
+                            "cells of side radius and compare each point only with the "
+                            "points of its own and the neighbouring cells"))
+        ck.expect(True, what)

@@ -1,9 +1,9 @@
 """Notebook 10 (flocking): the drawings.
 
-Holds one function per picture: a flock and its order parameters (:func:`draw_flock`, also
-the widget's drawing), the key states of the widget, the alignment relaxation against its
-exact decay, the cost of the two neighbour searches, and the predator chase. Imports
-matplotlib and the core; the core never imports this module.
+Holds a flock and its order parameters (:func:`draw_flock`, also the widget's drawing),
+the key states of the widget and the alignment relaxation against its exact decay; the
+drawings of the studies over many seeds are in :mod:`course_lib.lessons.nb10_figures`.
+Imports matplotlib and the core; the core never imports this module.
 """
 
 from __future__ import annotations
@@ -133,65 +133,4 @@ def draw_relaxation(results: dict, dt: float, n: int):
     ax.set(xlabel="step k", ylabel="RMS deviation from the mean velocity (m/s)",
            title=f"alignment alone, {n} boids all in view, dt = {dt} s")
     ax.legend(fontsize=8, loc="lower left")
-    return fig
-
-
-def draw_crossover(sizes, timings: dict):
-    """Cost of one step against the number of boids, both neighbour searches."""
-    fig, ax = plt.subplots(figsize=(7, 4))
-    sizes = np.asarray(sizes, dtype=float)
-    labels = {"all_pairs": "all pairs (N × N arrays)", "tree": "k-d tree (cKDTree)"}
-    for key, color in (("all_pairs", "C3"), ("tree", "C0")):
-        ax.loglog(sizes, 1e3 * timings[key], "o-", color=color, label=labels[key])
-    a, t = timings["all_pairs"], timings["tree"]
-    ok = np.isfinite(a)
-    ax.loglog(sizes[ok], 1e3 * a[ok][-1] * (sizes[ok] / sizes[ok][-1]) ** 2, ":", color="C3",
-              lw=1, label="∝ N²")
-    ax.loglog(sizes, 1e3 * t[-1] * sizes / sizes[-1], ":", color="C0", lw=1, label="∝ N")
-    faster = np.nonzero(ok & (t < a))[0]
-    if faster.size:
-        ax.axvline(sizes[faster[0]], color="0.5", lw=1)
-        ax.text(sizes[faster[0]] * 1.05, 1e3 * np.nanmin(t) * 0.8,
-                f"tree faster from N = {sizes[faster[0]]:.0f}", fontsize=9, color="0.3")
-    ax.axhline(20.0, color="0.6", ls="--", lw=1)
-    ax.text(sizes[0], 23.0, "20 ms", fontsize=8, color="0.4")
-    ax.set(xlabel="number of boids N", ylabel="one step (ms)",
-           title="neighbour search: all pairs against a k-d tree")
-    ax.legend(fontsize=8, loc="upper left")
-    return fig
-
-
-def draw_order(run):
-    """The flock at the end, and its polarization and mean nearest-neighbour distance over
-    time beside their values for random placement."""
-    fig, (ax0, ax1, ax2) = plt.subplots(1, 3, figsize=(12, 3.6), constrained_layout=True,
-                                        width_ratios=(0.9, 1, 1))
-    _boids(ax0, run.x, run.v, run.rules.box, f"{len(run.x)} boids after {run.t[-1]:.0f} s")
-    ax0.set_ylabel("y (m)")
-    ax1.plot(run.t, run.polarization, color="C0", label="flock")
-    ax1.axhline(run.random_polarization, **EXACT_STYLE, label=r"random: $\sqrt{\pi}/(2\sqrt{N})$")
-    ax1.set(xlabel="t (s)", ylabel="polarization", ylim=(0, 1.02), title="common heading")
-    ax1.legend(loc="center right")
-    ax2.plot(run.t_nn, run.nn, color="C2", label="flock")
-    ax2.axhline(run.random_nn, **EXACT_STYLE, label="random positions (exact)")
-    ax2.set(xlabel="t (s)", ylabel="mean distance (m)", ylim=(0, 1.3),
-            title="distance to the nearest neighbour")
-    ax2.legend(loc="lower right")
-    return fig
-
-
-def draw_chase(runs: dict, box: float):
-    """Distance from the predator to its nearest boid, and the flock at the end."""
-    fig, axes = plt.subplots(1, 1 + len(runs), figsize=(12, 3.8), constrained_layout=True,
-                             width_ratios=(1.4,) + (1.0,) * len(runs))
-    for k, (label, run) in enumerate(runs.items()):
-        axes[0].plot(run.t, run.closest, color=f"C{k}", label=label)
-        ax = axes[k + 1]
-        _boids(ax, run.x, run.v, box, label)
-        ax.plot(run.path[:, 0], run.path[:, 1], ".", color="0.3", ms=2)
-        ax.plot(*run.predator, "X", color="black", ms=10, label="predator")
-    axes[0].set(xlabel="t (s) since the predator entered", ylabel="to the nearest boid (m)",
-                title="how close the predator gets")
-    axes[0].legend()
-    axes[1].set_ylabel("y (m)")
     return fig
