@@ -87,7 +87,10 @@ def box_inertia(ck: Checker, func) -> None:
         if blown_up(ck, got, what, run=False):
             continue
         a, b, c = sides
-        world = lambda m: R @ np.diag(m) @ R.T   # noqa: E731
+
+        def world(m, R=R):
+            return R @ np.diag(m) @ R.T
+
         mistakes = {
             ("that is the body-frame tensor: the box is turned",
              "the world tensor is R I_body Rᵀ, with I_body = diag(...)"): np.diag(moments),
@@ -102,6 +105,8 @@ def box_inertia(ck: Checker, func) -> None:
                 world(mass * np.array([b * b + c * c, a * a + c * c, a * a + b * b])),
             "sort nothing: each side belongs to its own body axis":
                 world(inertia.box_moments(mass, np.sort(sides))),
+            "sort nothing: each side belongs to its own body axis, in the order given":
+                world(inertia.box_moments(mass, np.sort(sides)[::-1])),
         }
         ck.close(got, expected, what, rtol=precision_rtol(got, 1e-10), atol=1e-14 * mass,
                  mistakes=mistakes, hint=("I_body = m/12 · diag(b² + c², a² + c², a² + b²), "
