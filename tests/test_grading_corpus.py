@@ -1,9 +1,12 @@
 """Grading a whole class folder of broken submissions (tests/grading/corpus.py).
 
-One run of :func:`grade_class` over more than 25 kinds of submission, on two cores with
-short time limits; the tests then check every row, that no original file changed, that no
-tampering earned a point, and that the feedback files and the class report exist and say
-what they should.
+One run of :func:`grade_class` over more than 25 kinds of submission, with short time
+limits, on a two-worker ``dask.distributed`` LocalCluster: every submission is graded
+inside a Dask worker process, so the sandbox's promises (limits, Landlock, no network,
+signed messages, verdicts replayed in the grader) are tested where a cluster runs them.
+The tests then check every row, that no original file changed, that no tampering earned
+a point, and that the feedback files and the class report exist and say what they
+should. (tests/test_grading_cluster.py proves a local run writes the same gradebook.)
 """
 
 import csv
@@ -22,7 +25,7 @@ from course_lib.instructor.grade import grade_class
 from course_lib.instructor.sandbox import Limits
 from course_lib.instructor.verdicts import FIELDS, STATUSES
 
-LIMITS = Limits(deadline=60, cell_s=10, exercise_s=4, memory_mb=1024, grace=1.5)
+LIMITS = Limits(deadline=60, cell_s=6, exercise_s=4, memory_mb=1024, grace=1.0)
 
 
 def digest(folder: Path) -> dict[str, str]:
@@ -41,7 +44,15 @@ def kit_digest() -> dict[str, str]:
 
 
 @pytest.fixture(scope="module")
-def graded(tmp_path_factory):
+def cluster():
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as local, distributed.Client(local) as client:
+        yield client
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory, cluster):
     base = tmp_path_factory.mktemp("class")
     root = base / "submissions"
     grader_file = base / "grader" / "notes.txt"
@@ -52,8 +63,8 @@ def graded(tmp_path_factory):
     out = base / "out"
     start = time.monotonic()
     rows = grade_class([root], out / "grades.csv", solutions=ROOT / "solutions", assignments=[A02, A05],
-                       limits=LIMITS, jobs=2, feedback_dir=out / "feedback", report=out / "report.html",
-                       progress=False)
+                       limits=LIMITS, feedback_dir=out / "feedback", report=out / "report.html",
+                       progress=False, scheduler=cluster)
     seconds = time.monotonic() - start
     print(f"\ngraded {len(expected)} students ({len(rows)} rows) in {seconds:.1f} s")
     return SimpleNamespace(base=base, root=root, out=out, rows=rows, expected=expected, seconds=seconds,
@@ -69,6 +80,14 @@ def by_student(rows):
 
 def test_the_corpus_has_many_kinds(graded):
     assert len(graded.expected) >= 25
+
+
+def test_every_submission_ran_in_a_dask_worker_under_landlock(graded):
+    runs = {id(r.details["run"]): r.details["run"] for r in graded.rows if r.details.get("run")}
+    assert len(runs) >= 25
+    if landlock.abi_version():
+        assert all(run.landlock == landlock.abi_version() for run in runs.values())
+    assert not (graded.out / "grades.csv.journal").exists()  # a complete run leaves none
 
 
 def test_every_student_gets_one_row_per_expected_exercise(graded):
@@ -180,4 +199,4 @@ def test_class_report_is_self_contained(graded):
 
 
 def test_grading_time_is_reasonable(graded):
-    assert graded.seconds < 240  # about 40 s on two idle cores; generous for a busy machine
+    assert graded.seconds < 240  # about 30 s on two idle cores; generous for a busy machine

@@ -37,7 +37,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from .grade import Task, _rows, grade_task
-from .journal import lean_run, library_files
+from .journal import grading_modules, lean_run, library_files
 from .sandbox import Limits, Run, Runtime
 from .verdicts import Row
 
@@ -129,7 +129,7 @@ def grade_on_cluster(tasks: list[Task], kit, limits: Limits, scheduler) -> Itera
     except OSError as exc:
         raise ValueError(f"scheduler: cannot reach {scheduler!r} ({exc})") from None
     run = uuid.uuid4().hex[:8]
-    library = library_files()
+    library = library_files(grading_modules(sorted({t.assignment.check_module for t in tasks})))
     futures: dict = {}
     try:
         kit_future = client.scatter(kit, broadcast=True, hash=False)

@@ -184,9 +184,10 @@ def _call_grade_task(task, runtime, kit, limits):
 def _header(kit, expected: list[Assignment], limits: Limits) -> dict:
     from dataclasses import asdict
 
-    from .journal import library_fingerprint
+    from .journal import grading_modules, library_files, library_fingerprint
 
-    return {"library": library_fingerprint(), "limits": asdict(limits),
+    code = library_files(grading_modules(sorted({a.check_module for a in expected})))
+    return {"library": library_fingerprint(code), "limits": asdict(limits),
             "assignments": {a.name: [[e.name, e.check, e.points] for e in a.exercises] for a in expected},
             "ids": {a.name: sorted(a.cell_ids) for a in expected}}
 

@@ -14,42 +14,74 @@ Imports: the standard library and this package's data classes.
 
 from __future__ import annotations
 
+import ast
 import dataclasses
 import hashlib
-import importlib
+import importlib.util
 import json
 import os
-import sys
 from pathlib import Path
 
 from .sandbox import Run
+from .scan import AST_LOCK
 from .submissions import Cell, Notebook
 from .verdicts import Row
 
 VERSION = 1
 
 
-def library_files(names: list[str] | None = None) -> dict[str, str]:
-    """SHA-256 of the source file of each course_lib module loaded in this process (or of
-    the modules ``names``, imported first): the code that grades, checks and references
-    included. Two processes grade alike only if these agree."""
-    if names is None:
-        names = [n for n in list(sys.modules) if n == "course_lib" or n.startswith("course_lib.")]
+def grading_modules(check_modules: list[str]) -> list[str]:
+    """The course_lib modules a verdict can depend on: the grader's, the given check
+    modules', and every course_lib module they import at any depth (lazy imports and the
+    packages' ``__init__`` included), found by reading their source, not by running it."""
+    stack = ["course_lib.instructor.grade", "course_lib.instructor.cluster", *check_modules]
+    seen: set[str] = set()
+    while stack:
+        name = stack.pop()
+        if name in seen or not (name == "course_lib" or name.startswith("course_lib.")):
+            continue
+        origin = _origin(name)
+        if origin is None:
+            continue
+        seen.add(name)
+        parts = name.split(".")
+        stack += [".".join(parts[:i]) for i in range(1, len(parts))]
+        package = name if origin.endswith("__init__.py") else name.rsplit(".", 1)[0]
+        with AST_LOCK:  # see scan.AST_LOCK: the grader parses from several threads
+            tree = ast.parse(Path(origin).read_bytes())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import):
+                stack += [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = package.split(".")[: len(package.split(".")) - node.level + 1] if node.level else []
+                target = ".".join(base + ([node.module] if node.module else []))
+                stack += [target] + [f"{target}.{a.name}" for a in node.names]
+    return sorted(seen)
+
+
+def _origin(name: str) -> str | None:
+    try:
+        spec = importlib.util.find_spec(name)
+    except (ImportError, ValueError):
+        return None
+    return spec.origin if spec is not None and spec.origin and spec.origin.endswith(".py") else None
+
+
+def library_files(names: list[str]) -> dict[str, str]:
+    """SHA-256 of the source file of each of the modules ``names`` (as this process would
+    import them; "missing" if it has none). Two processes grade alike only if these agree."""
     out = {}
     for name in sorted(names):
-        module = sys.modules.get(name) or importlib.import_module(name)
-        path = getattr(module, "__file__", None)
-        if path:
-            try:
-                out[name] = hashlib.sha256(Path(path).read_bytes()).hexdigest()
-            except OSError:  # removed since it was imported: the loaded code is unknown
-                out[name] = "unreadable"
+        origin = _origin(name)
+        try:
+            out[name] = hashlib.sha256(Path(origin).read_bytes()).hexdigest() if origin else "missing"
+        except OSError:
+            out[name] = "unreadable"
     return out
 
 
-def library_fingerprint(files: dict[str, str] | None = None) -> str:
+def library_fingerprint(files: dict[str, str]) -> str:
     """One digest of :func:`library_files`."""
-    files = library_files() if files is None else files
     return hashlib.sha256(json.dumps(files, sort_keys=True).encode()).hexdigest()
 
 

@@ -30,7 +30,8 @@ class Sub:
 
     ``full=False`` leaves out the kit's demonstration code cells (the imports, the
     exercises and all Markdown stay): they are the kit's own code, untouched, and most of
-    the running time; a few kinds keep them to show whole notebooks are graded alike.
+    the running time; one kind (``correct_05``) keeps them to show whole notebooks are
+    graded alike.
     """
 
     def __init__(self, assignment: str, full: bool = False):
@@ -101,12 +102,12 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
 
     ok02, ok05 = _all("correct", A02), _all("correct", A05)
     student("correct_02", s02=ok02)
-    Sub(A02, full=True).solve().write(nb02("correct_02"))
+    Sub(A02).solve().write(nb02("correct_02"))
     student("correct_05", s05=ok05)
     Sub(A05, full=True).solve().write(nb05("correct_05"))
     student("blank_both", s02=_all("pending", A02), s05=_all("pending", A05))
-    Sub(A02, full=True).write(nb02("blank_both"))
-    Sub(A05, full=True).write(nb05("blank_both"))
+    Sub(A02).write(nb02("blank_both"))
+    Sub(A05).write(nb05("blank_both"))
     student("partial_05", s05=_all("pending", A05, symplectic_euler_step="correct", impact_time="correct"))
     Sub(A05).solve("symplectic_euler_step", "impact_time").write(nb05("partial_05"))
     student("wrong_02", s02=_all("pending", A02, forward_euler_step="incorrect", radius_after="incorrect"))
@@ -218,7 +219,7 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
     (fake / "__init__.py").write_text("")
     (fake / "nb02.py").write_text("def __getattr__(name):\n    return lambda fn: print('correct')\n")
     student("nbformat_v3_05", s05=ok05)
-    Sub(A05, full=True).solve().write(nb05("nbformat_v3_05"), version=3)
+    Sub(A05).solve().write(nb05("nbformat_v3_05"), version=3)
     student("odd_extension_02", s02=ok02)
     Sub(A02).solve().write(root / "odd_extension_02" / "02_Forward_Euler (1).ipynb.json")
     student("several_notebooks", s02=ok02, s05=_all("pending", A05))

@@ -1,0 +1,212 @@
+"""Grading a synthetic class locally and on a Dask cluster; resuming interrupted runs.
+
+The synthetic class (:mod:`course_lib.instructor.synth`) has every kind of answer the
+grader's tests know (right, wrong, crashing, looping, tampering, huge output, missing):
+each gets its expected status, a local run and a run on a two-worker ``LocalCluster``
+with one worker killed in the middle write byte-identical gradebooks, and an
+interrupted run resumes where it stopped (with a stand-in for the sandbox, so that each
+way of stopping costs nothing).
+"""
+
+import csv
+import os
+import signal
+import threading
+import time
+
+import pytest
+from notebook_helpers import ROOT
+
+from course_lib.instructor import grade
+from course_lib.instructor.cluster import LibraryMismatch, grade_remote
+from course_lib.instructor.journal import grading_modules, library_files, row_from_json, row_to_json
+from course_lib.instructor.sandbox import Limits, Run
+from course_lib.instructor.submissions import Cell, Notebook
+from course_lib.instructor.synth import KINDS, kinds_for, synth_class
+from course_lib.instructor.verdicts import Row
+
+LIMITS = Limits(deadline=60, cell_s=6, exercise_s=1.5, memory_mb=1024, grace=1.0)
+SOLUTIONS = ROOT / "solutions"
+
+
+@pytest.fixture(scope="module")
+def synthetic(tmp_path_factory):
+    return synth_class(tmp_path_factory.mktemp("synth"), 8, solutions=SOLUTIONS)
+
+
+@pytest.fixture(scope="module")
+def local(synthetic, tmp_path_factory):
+    out = tmp_path_factory.mktemp("local") / "grades.csv"
+    rows = grade.grade_class([synthetic["submissions"]], out, solutions=SOLUTIONS, limits=LIMITS, jobs=2,
+                             progress=False)
+    return rows, out.read_bytes()
+
+
+def test_the_synthetic_class_has_every_kind_and_is_reproducible(synthetic, tmp_path):
+    assert set(synthetic["kinds"].values()) == set(KINDS)
+    assert kinds_for(200, seed=3) == kinds_for(200, seed=3) != kinds_for(200, seed=4)
+    again = synth_class(tmp_path, 8, solutions=SOLUTIONS)
+    for student in synthetic["kinds"]:
+        for mine, theirs in ((synthetic["submissions"] / student, again["submissions"] / student),):
+            assert sorted(p.name for p in mine.iterdir()) == sorted(p.name for p in theirs.iterdir())
+    with pytest.raises(ValueError, match="not empty"):
+        synth_class(tmp_path, 3, solutions=SOLUTIONS)
+    with pytest.raises(ValueError, match="positive integer"):
+        synth_class(tmp_path / "x", 0, solutions=SOLUTIONS)
+
+
+def test_each_kind_gets_its_expected_status(synthetic, local):
+    rows, _ = local
+    with synthetic["expected"].open() as fh:
+        expected = {(r["student"], r["exercise"]): r["status"] for r in csv.DictReader(fh)}
+    got = {(r.student, r.exercise): r.status for r in rows}
+    assert got == expected
+    looping = next(r for r in rows if synthetic["kinds"][r.student] == "looping")
+    assert "did not finish within 1.5 s" in looping.message
+    huge = next(r for r in rows if synthetic["kinds"][r.student] == "huge_output")
+    assert any(cell.get("dropped", 0) > 50_000_000 for cell in huge.details["run"].cells.values())
+
+
+def _kill_one_busy_worker(client, out, thread):
+    """SIGKILL the process of a worker that has tasks, once a first result is written."""
+    while thread.is_alive():
+        busy = [w for w, keys in client.processing().items() if keys]
+        written = out.exists() and out.read_text().count("\n") > 1
+        if busy and written:
+            pid = client.run(os.getpid, workers=[busy[0]])[busy[0]]
+            os.kill(pid, signal.SIGKILL)
+            return busy[0]
+        time.sleep(0.05)
+    return None
+
+
+def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, local, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    out = tmp_path / "grades.csv"
+    done: dict = {}
+
+    def run():
+        try:
+            done["rows"] = grade.grade_class([synthetic["submissions"]], out, solutions=SOLUTIONS,
+                                             limits=LIMITS, progress=False, scheduler=client)
+        except BaseException as exc:  # reported by the main thread
+            done["error"] = exc
+
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        thread = threading.Thread(target=run)
+        thread.start()
+        killed = _kill_one_busy_worker(client, out, thread)
+        thread.join(timeout=300)
+        workers_after = set(client.nthreads())
+    assert "error" not in done, done.get("error")
+    assert killed is not None, "the run ended before a worker could be killed"
+    assert killed not in workers_after  # the nanny started a new worker in its place
+    assert out.read_bytes() == local[1]  # byte for byte: nothing lost, nothing twice
+    keys = [(r.student, r.assignment, r.exercise) for r in done["rows"]]
+    assert len(keys) == len(set(keys)) == len(local[0])
+
+
+def test_a_worker_with_another_course_lib_refuses_to_grade(synthetic):
+    kit = grade.load_kit(SOLUTIONS)
+    task = grade.Task("s0001", kit["05_newtons_second_law"], None, "nothing")
+    mine = library_files(grading_modules(["course_lib.check.nb05"]))
+    assert {"course_lib.check.nb05", "course_lib.lessons.nb05_newton", "course_lib.instructor.verdicts",
+            "course_lib.integrators", "course_lib"} <= set(mine)  # what 05's verdicts depend on
+    others = [n for n in mine if n.startswith("course_lib.check.nb") and n != "course_lib.check.nb05"]
+    assert not others
+    assert grade_remote(task, None, kit, LIMITS, mine)[0].status == "missing"
+    with pytest.raises(LibraryMismatch, match=r"course_lib\.fields"):
+        grade_remote(task, None, kit, LIMITS, {**mine, "course_lib.fields": "0" * 64})
+
+
+# --- resuming (the sandbox replaced by a stand-in that records who was graded) ------------
+
+def _fake(calls: list, stop_at: int | None = None):
+    def fake(task, runtime, kit, limits):
+        if stop_at is not None and len(calls) == stop_at:
+            raise KeyboardInterrupt
+        calls.append(task.student)
+        run = Run(cells={0: {"status": "ok", "output": f"hello {task.student}", "dropped": 0}}, attempts=1)
+        nb = Notebook([Cell(0, "code", "print('hello')", "a1")])
+        return [Row(task.student, task.assignment.name, e.name, "correct" if i else "incorrect", e.points,
+                    f"verdict {i}", str(task.path or ""), 1, 2,
+                    details={"run": run, "notebook": nb, "cell": 0, "counts": (1, 2),
+                             "failed_cases": ["case 1\n  hint: x"]})
+                for i, e in enumerate(task.assignment.exercises)]
+    return fake
+
+
+def _grade(synthetic, out, **options):
+    options = {"limits": LIMITS, **options}
+    return grade.grade_class([synthetic["submissions"]], out, solutions=SOLUTIONS, jobs=1, progress=False,
+                             **options)
+
+
+def test_an_interrupted_run_resumes_where_it_stopped(synthetic, tmp_path, monkeypatch):
+    calls: list = []
+    monkeypatch.setattr(grade, "grade_task", _fake(calls))
+    _grade(synthetic, tmp_path / "whole.csv", feedback_dir=tmp_path / "fb-whole")
+    whole = (tmp_path / "whole.csv").read_bytes()
+    assert not (tmp_path / "whole.csv.journal").exists() and len(calls) == 8
+
+    out = tmp_path / "grades.csv"
+    first: list = []
+    monkeypatch.setattr(grade, "grade_task", _fake(first, stop_at=3))
+    with pytest.raises(KeyboardInterrupt):
+        _grade(synthetic, out)
+    assert len(first) == 3 and (tmp_path / "grades.csv.journal").exists()
+    with out.open() as fh:  # a valid gradebook of what was graded
+        assert {r["student"] for r in csv.DictReader(fh)} == set(first)
+    second: list = []
+    monkeypatch.setattr(grade, "grade_task", _fake(second))
+    rows = _grade(synthetic, out, feedback_dir=tmp_path / "fb")
+    assert sorted(first + second) == sorted(calls)  # each student graded once over both runs
+    assert out.read_bytes() == whole and not (tmp_path / "grades.csv.journal").exists()
+    resumed = next(r for r in rows if r.student == first[0])
+    assert isinstance(resumed.details["run"], Run) and resumed.details["run"].cells[0]["output"]
+    for student in calls:  # feedback from the journal's rows equals feedback graded now
+        assert (tmp_path / "fb" / f"{student}.md").read_text() == \
+            (tmp_path / "fb-whole" / f"{student}.md").read_text()
+
+
+def test_a_journal_cut_short_changed_files_and_other_limits_are_regraded(synthetic, tmp_path, monkeypatch):
+    out = tmp_path / "grades.csv"
+    journal = tmp_path / "grades.csv.journal"
+    first: list = []
+    monkeypatch.setattr(grade, "grade_task", _fake(first, stop_at=4))
+    with pytest.raises(KeyboardInterrupt):
+        _grade(synthetic, out)
+    journal.write_bytes(journal.read_bytes()[:-40])  # the machine died while writing a line
+    changed = next(s for s in first[:3] if synthetic["kinds"][s] != "missing")
+    notebook = next((synthetic["submissions"] / changed).glob("*.ipynb"))
+    saved = journal.read_bytes()
+    notebook.write_text(notebook.read_text() + " ")  # handed in again
+    try:
+        again: list = []
+        monkeypatch.setattr(grade, "grade_task", _fake(again))
+        _grade(synthetic, out)
+        assert first[3] in again and changed in again and len(again) == 8 - 2
+        journal.write_bytes(saved)
+        fresh: list = []
+        monkeypatch.setattr(grade, "grade_task", _fake(fresh))
+        _grade(synthetic, out, limits=Limits(deadline=61))  # another run: nothing is reused
+        assert len(fresh) == 8
+        journal.write_bytes(saved)
+        fresh.clear()
+        _grade(synthetic, out, resume=False)  # --restart
+        assert len(fresh) == 8
+    finally:
+        notebook.write_text(notebook.read_text()[:-1])
+
+
+def test_rows_survive_the_journal_exactly():
+    run = Run(cells={3: {"status": "killed", "error": "x"}}, exercises={"f": {"calls": [1], "found": True}},
+              changes=["c"], violation=None, landlock=6, seconds=1.5, attempts=2)
+    row = Row("ann", "05", "f", "error", 2, "why", "/x.ipynb", 1, 3,
+              details={"run": run, "notebook": Notebook([Cell(0, "code", "x = 1", None)], "n"),
+                       "failed_cases": ["a"], "cell": 0, "note": ""})
+    back = row_from_json(row_to_json(row))
+    assert back.csv() == row.csv() and back.details["run"].cells == run.cells
+    assert back.details["run"].exercises == {"f": {"found": True}}  # recorded calls are not kept
+    assert back.details["notebook"] == row.details["notebook"]
