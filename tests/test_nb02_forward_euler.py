@@ -9,10 +9,24 @@ import pytest
 from scipy.optimize import brentq
 
 import course_lib as cl
-from course_lib.check import RESULTS
+from course_lib.check import FAILURES, RESULTS, evaluate
 from course_lib.check import nb02 as check
 
 J = np.array([[0.0, -1.0], [1.0, 0.0]])
+
+
+@pytest.fixture(autouse=True)
+def _first_attempt():
+    """Every test sees the first attempt's hint (the nudge): no failures carried over."""
+    for key in [k for k in FAILURES if k.startswith("nb02.")]:
+        del FAILURES[key]
+
+
+def drift_root(tol: float, per_step: float = 0.5) -> float:
+    """The largest step for a drift budget, solved here from the formula with brentq (the
+    checks' own solver is library code, which the checks refuse as an answer)."""
+    return brentq(lambda dt: per_step * (2 * math.pi / dt) * math.log1p(dt * dt)
+                  - math.log1p(tol), 1e-12, 1.0, xtol=1e-16, rtol=1e-14)
 
 
 def vortex_convergence():
@@ -187,7 +201,9 @@ def _in_place(f, t, y, dt):
     (lambda f, t, y, dt: y - dt * f(t, y), "wrong sign"),
     (lambda f, t, y, dt: dt * f(t, y), "not only the change"),
     (_in_place, "in place"),
-    (lambda f, t, y, dt: y + 0.5 * dt * f(t, y), "y_next = y + dt * f(t, y)"),
+    (lambda f, t, y, dt: y + 0.5 * dt * f(t, y), "for the whole dt, not dt/2"),
+    (lambda f, t, y, dt: y + 0.3 * dt * f(t, y), "follow the slope at the start of the step"),
+    (lambda f, t, y, dt: y + dt * f(0.0, y), "pass the step's time t to f"),
 ])
 def test_forward_euler_step_mistakes(wrong, hint, capsys):
     status, out = verdict(check.forward_euler_step, wrong, capsys, "forward_euler_step")
@@ -218,7 +234,7 @@ def test_radius_after_correct(capsys):
     (lambda r0, dt, n: r0 * (1 + dt**2 / 2) ** n, "only an approximation"),
     (lambda r0, dt, n: r0 * math.sqrt(1 + n * dt**2), "compound it n times"),
     (lambda r0, dt, n: (1 + dt**2) ** (n / 2), "starting radius r0"),
-    (lambda r0, dt, n: r0 * math.exp(n * dt), "r0 (1 + dt²)^(n/2)"),
+    (lambda r0, dt, n: r0 * math.exp(n * dt), "each step multiplies the radius by the same"),
 ])
 def test_radius_after_mistakes(wrong, hint, capsys):
     status, out = verdict(check.radius_after, wrong, capsys, "radius_after")
@@ -227,7 +243,7 @@ def test_radius_after_mistakes(wrong, hint, capsys):
 
 
 def test_drift_dt_correct(capsys):
-    status, out = verdict(check.drift_dt, check.largest_drift_dt, capsys, "drift_dt")
+    status, out = verdict(check.drift_dt, drift_root, capsys, "drift_dt")
     assert status == "correct", out
     assert "tol = 0.037" in out  # a tolerance the text never quotes
     # brentq with its default tolerances, and a float32 answer, are right too
@@ -235,23 +251,23 @@ def test_drift_dt_correct(capsys):
         lambda dt: (math.pi / dt) * math.log1p(dt * dt) - math.log1p(tol), 1e-9, 1.0), capsys,
         "drift_dt")
     assert status == "correct", out
-    status, out = verdict(check.drift_dt, lambda tol: np.float32(check.largest_drift_dt(tol)),
+    status, out = verdict(check.drift_dt, lambda tol: np.float32(drift_root(tol)),
                           capsys, "drift_dt")
     assert status == "correct", out
-    status, out = verdict(check.drift_dt, lambda tol: np.array([check.largest_drift_dt(tol)]),
+    status, out = verdict(check.drift_dt, lambda tol: np.array([drift_root(tol)]),
                           capsys, "drift_dt")
     assert status == "correct", out
 
 
 @pytest.mark.parametrize("wrong, hint", [
-    (lambda tol: tol / math.pi, "instead of linearising"),
+    (lambda tol: tol / math.pi, "tol/π comes from linearising"),
     (lambda tol: math.log1p(tol) / math.pi, "ln(1 + tol)/π"),
-    (lambda tol: check.largest_drift_dt(tol, steps_per_factor=1.0), "not (1 + dt²)^n"),
-    (lambda tol: 0.5 * check.largest_drift_dt(tol), "LARGEST"),
+    (lambda tol: drift_root(tol, per_step=1.0), "you compounded the factor 1 + dt²"),
+    (lambda tol: 0.5 * drift_root(tol), "LARGEST"),
     # the old check's factor-1.25 window accepted these without solving anything
     (lambda tol: tol / 3.5, "LARGEST"),
-    (lambda tol: 0.85 * check.largest_drift_dt(tol), "LARGEST"),
-    (lambda tol: 1.1 * check.largest_drift_dt(tol), "scipy.optimize.brentq"),
+    (lambda tol: 0.85 * drift_root(tol), "LARGEST"),
+    (lambda tol: 1.1 * drift_root(tol), "with a root finder"),
     (lambda tol: -1.0, "expected a step dt > 0"),
     (lambda tol: "small", "expected one number"),
     (lambda tol: [0.1, 0.2], "expected one number"),
@@ -318,10 +334,11 @@ def test_three_grid_table_quoted():
     assert round(100 * (estimate[2] / true[2] - 1)) == 13
     assert round(100 * (estimate[5] / true[5] - 1)) == 2
     assert f"{ends[0][0]:.2f}" == "1.05" and f"{ref[0]:.2f}" == "0.33"   # across the border
-    # the RK4 reference is converged far below the errors it checks
-    ref2 = cl.integrate(__import__("course_lib.lessons.nb02_forward_euler", fromlist=["x"]).double_gyre,
-                        [0.6, 0.3], (0.0, 10.0), 10.0 / 40000, "rk4").y[-1]
-    assert np.linalg.norm(ref2 - ref) < 1e-9
+    # the RK4 reference is converged far below the errors it checks: halving its step
+    # changes it by 15/16 of the coarser run's error, so this bounds the reference's error
+    ref_half = cl.integrate(__import__("course_lib.lessons.nb02_forward_euler", fromlist=["x"])
+                            .double_gyre, [0.6, 0.3], (0.0, 10.0), 10.0 / 10000, "rk4").y[-1]
+    assert np.linalg.norm(ref_half - ref) < 1e-8
 
 
 def test_double_gyre_is_divergence_free_with_wall_streamlines():
@@ -378,9 +395,11 @@ def test_observed_order_check_accepts_right_answers(capsys):
     (lambda *a: _observed_order(*a, invert=True), "upside down"),
     (lambda *a: _observed_order(*a, log=np.log), "not the natural log"),
     (lambda *a: _observed_order(*a, log=np.log10), "not log10"),
-    (lambda step, f, y0, T, n: {"forward_euler": 1}.get("forward_euler"), "p = log2"),
+    (lambda step, f, y0, T, n: {"forward_euler": 1}.get("forward_euler"),
+     "not rounded to a whole order"),
     (lambda step, f, y0, T, n: np.nan, "expected one number"),
-    (lambda step, f, y0, T, n: _observed_order(step, f, y0, T, n + 1), "p = log2"),
+    (lambda step, f, y0, T, n: _observed_order(step, f, y0, T, n + 1),
+     "run the method to the same end time T with three step sizes"),
 ])
 def test_observed_order_check_rejects_wrong_answers(wrong, hint, capsys):
     status, out = verdict(check.observed_order, wrong, capsys, "observed_order")
@@ -393,3 +412,201 @@ def test_exercise_4_wording():
     assert round(math.degrees(2.0)) == 115
     assert sorted({c[2] for c in check.ORDER_CASES}) == [1, 2, 3]
     assert list(50 * 2 ** np.arange(8))[-1] == 6400
+
+
+# --- planted answers: one delegating call, one shortcut the data breaks, one misconception --
+
+
+def planted(source: str, name: str):
+    """A function defined as a notebook cell defines it (module ``__main__``), so that the
+    checks read its bytecode and watch its calls exactly as in a student's kernel."""
+    namespace = {"__name__": "__main__", "np": np, "cl": cl, "math": math, "brentq": brentq}
+    exec(compile(source, "<cell>", "exec"), namespace)
+    return namespace[name]
+
+
+_LOOP = ("    ends = []\n    for m in (n, 2 * n, 4 * n):\n"
+         "        y, dt = np.array(y0, dtype=float), T / m\n"
+         "        for k in range(m):\n            y = step(f, {t}, y, dt)\n"
+         "        ends.append(y)\n")
+
+#: (exercise, kind, source, verdict, what the first failure's hint (or message) must say)
+PLANTED = [
+    ("forward_euler_step", "delegating",
+     "def forward_euler_step(f, t, y, dt):\n    return cl.step('forward_euler', f, t, y, dt)",
+     "incorrect", "uses the reference: your function calls course_lib.steppers.step"),
+    ("forward_euler_step", "shortcut: t frozen at 0 (the time-dependent wind breaks it)",
+     "def forward_euler_step(f, t, y, dt):\n    return y + dt * f(0.0, y)",
+     "incorrect", "pass the step's time t to f"),
+    ("forward_euler_step", "misconception: the slope at the end",
+     "def forward_euler_step(f, t, y, dt):\n    return y + dt * f(t + dt, y + dt * f(t, y))",
+     "incorrect", "the slope must be taken at the START of the step"),
+    ("radius_after", "delegating: a library run",
+     "def radius_after(r0, dt, n):\n"
+     "    run = cl.integrate(cl.fields.vortex, [r0, 0.0], (0.0, max(n, 1) * dt), dt)\n"
+     "    return float(np.linalg.norm(run.y[n]))",
+     "incorrect", "uses the reference: your function calls course_lib.integrators.integrate"),
+    ("radius_after", "shortcut: a simulation of one's own (the prompt asks for the analysis)",
+     "def radius_after(r0, dt, n):\n    X = np.array([r0, 0.0])\n    for _ in range(n):\n"
+     "        X = X + dt * np.array([-X[1], X[0]])\n    return float(np.linalg.norm(X))",
+     "incorrect", "the exercise asks for the analysis of Section 3"),
+    ("radius_after", "misconception: no square root",
+     "def radius_after(r0, dt, n):\n    return r0 * (1 + dt**2) ** n",
+     "incorrect", "so |X| grows by the square root"),
+    ("drift_dt", "delegating: the checks' own solver",
+     "from course_lib.check.nb02 import largest_drift_dt\n"
+     "def drift_dt(tol):\n    return largest_drift_dt(tol)",
+     "incorrect", "uses the reference: your function calls course_lib.check.nb02.largest_drift_dt"),
+    ("drift_dt", "shortcut: the two quoted budgets looked up (tol = 0.037 breaks it)",
+     "def drift_dt(tol):\n    return {0.01: 0.0031673046, 0.1: 0.030352145}[tol]",
+     "incorrect", "KeyError: 0.037"),
+    ("drift_dt", "misconception: (1 + dt²) per step",
+     "def drift_dt(tol):\n"
+     "    return brentq(lambda dt: (2 * math.pi / dt) * math.log1p(dt * dt) - math.log1p(tol),"
+     " 1e-9, 1.0, xtol=1e-15)",
+     "incorrect", "you compounded the factor 1 + dt² per step"),
+    ("observed_order", "delegating: the lesson's estimator",
+     "from course_lib.lessons.nb02_forward_euler import three_grid_order\n"
+     "def observed_order(step, f, y0, T, n):\n" + _LOOP.format(t="k * dt")
+     + "    return three_grid_order(*ends)",
+     "incorrect", "uses the reference: your function calls "
+     "course_lib.lessons.nb02_forward_euler.three_grid_order"),
+    ("observed_order", "shortcut: t frozen at 0 (the gyre and the forced decay break it)",
+     "def observed_order(step, f, y0, T, n):\n" + _LOOP.format(t="0.0")
+     + "    return float(np.log2(np.linalg.norm(ends[0] - ends[1]) "
+     "/ np.linalg.norm(ends[1] - ends[2])))",
+     "incorrect", "pass the time of each step to step(f, t, y, dt)"),
+    ("observed_order", "misconception: the natural log",
+     "def observed_order(step, f, y0, T, n):\n" + _LOOP.format(t="k * dt")
+     + "    return float(np.log(np.linalg.norm(ends[0] - ends[1]) "
+     "/ np.linalg.norm(ends[1] - ends[2])))",
+     "incorrect", "not the natural log"),
+    ("observed_order", "the loop written right",
+     "def observed_order(step, f, y0, T, n):\n" + _LOOP.format(t="k * dt")
+     + "    return float(np.log2(np.linalg.norm(ends[0] - ends[1]) "
+     "/ np.linalg.norm(ends[1] - ends[2])))",
+     "correct", ""),
+]
+
+
+@pytest.mark.parametrize(("exercise", "kind", "source", "status", "says"), PLANTED,
+                         ids=[f"{p[0]}: {p[1]}" for p in PLANTED])
+def test_planted_answers(exercise, kind, source, status, says):
+    result = evaluate(getattr(check, exercise), planted(source, exercise))
+    assert result["status"] == status, (kind, result["failed_cases"])
+    assert says in "\n".join(result["failed_cases"]), (kind, result["failed_cases"])
+
+
+def test_every_exercise_has_its_three_plants():
+    from course_lib.check import REGISTRY
+
+    kinds = {}
+    for exercise, kind, *_ in PLANTED:
+        kinds.setdefault(exercise, set()).add(kind.split(":")[0])
+    assert set(kinds) == {k.split(".")[1] for k in REGISTRY if k.startswith("nb02.")}
+    for exercise, found in kinds.items():
+        assert {"delegating", "shortcut", "misconception"} <= found, exercise
+
+
+def test_the_analysis_budget_is_lines_not_seconds():
+    """A formula runs a few lines for a million steps; a loop is stopped at the budget (at
+    once, whatever the machine), and the line count ignores NumPy's own Python code."""
+    formula = planted("def radius_after(r0, dt, n):\n"
+                      "    return float(np.linalg.norm(np.linalg.matrix_power(\n"
+                      "        np.array([[1.0, -dt], [dt, 1.0]]), n) @ [r0, 0.0]))",
+                      "radius_after")
+    assert evaluate(check.radius_after, formula)["status"] == "correct"
+    caught = planted("def radius_after(r0, dt, n):\n    r = r0\n    for _ in range(n):\n"
+                     "        try:\n            r *= math.sqrt(1 + dt * dt)\n"
+                     "        except BaseException:\n            pass\n    return r",
+                     "radius_after")
+    result = evaluate(check.radius_after, caught)
+    assert result["status"] == "incorrect"
+    assert "more than 2000 lines" in "\n".join(result["failed_cases"])
+    assert check.RADIUS_LINE_BUDGET == 2000
+
+
+# --- the spiral explorer (Section 4): dt against the spiral and the convergence plot -------
+
+
+def test_spiral_experiment_against_the_theory():
+    from course_lib.lessons import nb02_forward_euler as lesson
+
+    n = 16
+    r = lesson.spiral_experiment(2 * np.pi / n)                   # a whole number of steps
+    assert len(r.t) == n + 1
+    assert r.growth == pytest.approx((1 + (2 * np.pi / n) ** 2) ** (n / 2), rel=1e-12)
+    for dt in (0.01, 0.037, 0.25, 1.0):                          # a shortened last step
+        r = lesson.spiral_experiment(dt)
+        assert r.t[-1] == pytest.approx(2 * np.pi, rel=1e-14)
+        assert r.growth == pytest.approx(r.growth_theory, rel=1e-12)
+        assert r.local == pytest.approx(dt**2 / 2, rel=dt**2)   # dt²/2 (1 + O(dt²))
+        assert f"×{r.growth:.4g}" in r.verdict
+    # "about dt = 0.01 s: a radius 3 % too large after one turn"
+    assert round(100 * (lesson.spiral_experiment(0.01).growth - 1)) == 3
+    with pytest.raises(ValueError, match="dt must lie in"):
+        lesson.spiral_experiment(2.0)
+
+
+def test_convergence_curves_are_the_runs_of_section_4():
+    from course_lib.lessons import nb02_forward_euler as lesson
+
+    _, error, local = lesson.convergence_curves()
+    for n in (1, 3, 16, 100, 2048):
+        run = cl.integrate(cl.fields.vortex, [1.0, 0.0], (0.0, np.pi), np.pi / n)
+        assert run.n_steps == n
+        # n steps: round-off grows like n ε relative (here n < 1e4, so 1e-9 is generous)
+        assert error[n - 1] == pytest.approx(np.linalg.norm(run.y[-1] - [-1.0, 0.0]), rel=1e-9)
+        assert local[n - 1] == pytest.approx(
+            np.linalg.norm(run.y[1] - [np.cos(np.pi / n), np.sin(np.pi / n)]), rel=1e-9)
+    assert lesson.spiral_experiment(np.pi / 64).error == pytest.approx(error[63], rel=1e-9)
+
+
+@pytest.fixture(scope="module")
+def spiral_view_module():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from course_lib.lessons import nb02_spiral_view
+
+    return nb02_spiral_view
+
+
+def test_spiral_explorer_answers_a_slider(spiral_view_module):
+    view = spiral_view_module.spiral_explorer(dt=0.25)
+    first = view.image.value
+    assert first[:8] == b"\x89PNG\r\n\x1a\n" and view.result.dt == 0.25
+    view.controls["dt"].value = 0.05
+    assert view.result.dt == pytest.approx(0.05) and view.image.value != first
+    assert view.status.value == ""                              # "computing" is cleared
+    assert "Spiral explorer (interactive)" in view._repr_mimebundle_()["text/plain"]
+
+
+def test_spiral_plot_blit_draws_what_a_full_redraw_draws(spiral_view_module):
+    from io import BytesIO
+
+    from PIL import Image
+
+    from course_lib.lessons.nb02_forward_euler import spiral_experiment
+
+    fast = spiral_view_module.SpiralPlot(blit=True)
+    fast(spiral_experiment(0.7))
+    fast.png()                                                  # background cached at 0.7
+    fast(spiral_experiment(0.1))
+    full = spiral_view_module.SpiralPlot(blit=False)
+    full(spiral_experiment(0.1))
+    a, b = (np.asarray(Image.open(BytesIO(p.png())).convert("L"), dtype=float)
+            for p in (fast, full))
+    assert a.shape == b.shape
+    assert np.mean(np.abs(a - b) > 40) < 0.002                   # anti-aliasing only
+
+
+def test_spiral_player(spiral_view_module):
+    from course_lib.lessons.nb02_forward_euler import spiral_experiment
+
+    player = spiral_view_module.spiral_player(dts=(0.05, 0.5))
+    assert player.labels == ["dt = 0.05 s", "dt = 0.5 s"]
+    assert player.captions == [spiral_experiment(d).verdict for d in (0.05, 0.5)]
+    assert len(spiral_view_module.SPIRAL_DTS) == 9              # "nine steps from 0.01 s to 1 s"
+    assert min(spiral_view_module.SPIRAL_DTS) == 0.01 and max(spiral_view_module.SPIRAL_DTS) == 1.0
+    assert player.nbytes < 300_000

@@ -14,18 +14,22 @@ the student only for what the student's code did:
   (:func:`mistake_hint`), and summarises a large wrong array by its worst row;
 - :func:`pure_call` and :func:`step_cases` check one-step methods ``step(f, t, y, dt)``
   (notebooks 02, 04, 05); :func:`kutta3` is a method the course never teaches, a black box
-  for the checks of 02 and 03.
+  for the checks of 02 and 03;
+- :func:`call_analysis` runs an answer that the prompt asks to be an analysis (a formula,
+  not a loop over the steps) with a budget of lines of Python in the student's own code,
+  so that a step-by-step simulation is told so instead of passing.
 
 Imports NumPy and :class:`course_lib.check.Checker` only.
 """
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
 
 import numpy as np
 
-from . import Checker
+from . import Checker, Hint
 
 #: Relative tolerance granted per unit round-off of the answer's own precision.
 _ROUNDOFF_FACTOR = 64.0
@@ -90,7 +94,7 @@ def rtol_for(answer, rtol: float) -> float:
     return max(rtol, _ROUNDOFF_FACTOR * float(np.finfo(arr.dtype).eps))
 
 
-def mistake_hint(actual, mistakes: dict[str, object], default: str | None = None) -> str | None:
+def mistake_hint(actual, mistakes: dict[Hint, object], default: Hint = None) -> Hint:
     """The hint of the first typical mistake ``actual`` matches (any shape), else ``default``.
 
     ``mistakes`` maps a hint to the value a typical wrong answer gives; unlike
@@ -107,7 +111,7 @@ def mistake_hint(actual, mistakes: dict[str, object], default: str | None = None
     return default
 
 
-def close(ck: Checker, got, expected, what: str, *, hint: str | None = None,
+def close(ck: Checker, got, expected, what: str, *, hint: Hint = None,
            mistakes: dict | None = None, rtol: float = 1e-9, atol: float | None = None) -> bool:
     """Compare at the precision of the student's answer (float32 accepted); a large wrong
     array is summarised by its worst entry instead of printed whole.
@@ -150,7 +154,7 @@ def pure_call(ck: Checker, what: str, student: Callable, f: Callable, t: float,
 
 
 def step_cases(ck: Checker, student: Callable, cases, reference: Callable,
-               mistakes_for: Callable, hint: str, rtol: float = 1e-12,
+               mistakes_for: Callable, hint: Hint, rtol: float = 1e-12,
                atol: float | None = None) -> None:
     """Check a student's one-step method ``student(f, t, y, dt)`` on several cases.
 
@@ -181,3 +185,50 @@ def kutta3(f, t, y, dt):
     k2 = f(t + 0.5 * dt, y + 0.5 * dt * k1)
     k3 = f(t + dt, y - dt * k1 + 2.0 * dt * k2)
     return y + dt / 6.0 * (k1 + 4.0 * k2 + k3)
+
+
+class TooManyLines(BaseException):
+    """Raised inside an answer that runs more lines of its own Python than a formula needs
+    (a BaseException, so that the answer's own ``except Exception`` does not swallow it)."""
+
+
+#: Modules whose frames are not the student's code (their lines are not counted).
+_LIBRARIES = ("numpy", "scipy", "course_lib")
+
+
+def call_analysis(ck: Checker, what: str, budget: int, hint: Hint, func: Callable, *args
+                  ) -> tuple[bool, object]:
+    """Like :func:`call`, for an exercise that asks for an analysis: at most ``budget`` lines
+    of Python may run in the answer's own frames (NumPy, SciPy and the library not counted).
+
+    A formula runs a handful of lines whatever the arguments; a loop over a million steps
+    runs a million. Counting lines (``sys.settrace``), not seconds, gives the same verdict on
+    every machine, and stops a long loop at once. On overrun the case fails with ``hint``.
+    """
+    count = 0
+
+    def line(frame, event, arg):
+        nonlocal count
+        if event == "line":
+            count += 1
+            if count > budget:
+                raise TooManyLines
+        return line
+
+    def calls(frame, event, arg):
+        module = frame.f_globals.get("__name__", "") or ""
+        return None if module.startswith(_LIBRARIES) else line
+
+    previous = sys.gettrace()
+    sys.settrace(calls)
+    try:
+        ok, got = call(ck, what, func, *args)
+    except TooManyLines:
+        ok, got = False, None
+    finally:
+        sys.settrace(previous)
+    if count > budget:  # also when the answer caught the exception and carried on untraced
+        ck.expect(False, what, f"your function ran more than {budget} lines of Python here: it "
+                  "steps through the run instead of evaluating the result", hint)
+        return False, None
+    return ok, got

@@ -8,15 +8,23 @@
 - :func:`euler_endpoints` runs forward Euler with ``n``, ``2n``, ``4n``, ... steps to the
   same end time and returns the end points;
 - :func:`three_grid_order` turns three of them into the observed order,
-  ``p = log2(|X_n - X_2n| / |X_2n - X_4n|)``.
+  ``p = log2(|X_n - X_2n| / |X_2n - X_4n|)``;
+- :func:`spiral_experiment` is the pure half of the spiral explorer (the view is in
+  :mod:`course_lib.lessons.nb02_spiral_view`): one revolution of forward Euler on the vortex
+  at a given step, its radius growth against the theory, and its global and local errors,
+  placed on the convergence curves of Section 4 (:func:`convergence_curves`).
 
-Imports the core only (:func:`course_lib.integrate`).
+Imports the core only (:func:`course_lib.integrate`, :mod:`course_lib.fields`).
 """
 
 from __future__ import annotations
 
+import functools
+from dataclasses import dataclass
+
 import numpy as np
 
+from ..fields import vortex
 from ..integrators import integrate
 
 
@@ -54,3 +62,59 @@ def three_grid_order(coarse, middle, fine) -> float:
     d1 = np.linalg.norm(np.asarray(coarse) - np.asarray(middle))
     d2 = np.linalg.norm(np.asarray(middle) - np.asarray(fine))
     return float(np.log2(d1 / d2))
+
+
+# --- the spiral explorer: dt against the spiral and the convergence plot ------------------
+
+#: Range of the explorer's time step (s).
+SPIRAL_DT_RANGE = (0.01, 1.0)
+
+
+@dataclass
+class SpiralResult:
+    """One revolution of forward Euler on the vortex from ``(1, 0)`` with step ``dt`` (s).
+
+    ``t`` ``(n+1,)`` (s) and ``X`` ``(n+1, 2)`` (m): the run to ``2π`` (its last step
+    shortened to land there); ``growth``: ``|X|`` at ``2π``, and ``growth_theory``, the
+    product of ``√(1 + h²)`` over the steps ``h`` taken; ``error``: ``|X(π) - (-1, 0)|`` (m)
+    of a run to ``T = π``, the global error of Section 4; ``local``: the error of one step
+    from the exact start, ``|X_1 - (cos dt, sin dt)|`` (m); ``verdict``: one line.
+    """
+
+    dt: float
+    t: np.ndarray
+    X: np.ndarray
+    growth: float
+    growth_theory: float
+    error: float
+    local: float
+    verdict: str
+
+
+def spiral_experiment(dt: float) -> SpiralResult:
+    """Forward Euler on the vortex at step ``dt`` (s): one revolution, and the errors at
+    ``T = π`` and after one step (pure; what the spiral explorer draws)."""
+    if not SPIRAL_DT_RANGE[0] <= dt <= SPIRAL_DT_RANGE[1]:
+        raise ValueError(f"dt must lie in {SPIRAL_DT_RANGE} s, got {dt!r}")
+    run = integrate(vortex, [1.0, 0.0], (0.0, 2 * np.pi), dt)
+    growth = float(np.linalg.norm(run.y[-1]))
+    theory = float(np.prod(np.sqrt(1.0 + np.diff(run.t) ** 2)))
+    half = integrate(vortex, [1.0, 0.0], (0.0, np.pi), min(dt, np.pi))
+    error = float(np.linalg.norm(half.y[-1] - [-1.0, 0.0]))
+    local = float(np.hypot(1.0 - np.cos(dt), dt - np.sin(dt)))
+    verdict = (f"dt = {dt:.3g} s: {run.n_steps} steps per revolution; the radius grows "
+               f"×{growth:.4g} in one revolution (theory ×{theory:.4g}); error at T = π: "
+               f"{error:.2g} m")
+    return SpiralResult(dt, run.t, run.y, growth, theory, error, local, verdict)
+
+
+@functools.cache
+def convergence_curves(n_max: int = 2048) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(dt, global, local)`` for ``dt = π/n``, ``n = 1 ... n_max``: forward Euler's error
+    at ``T = π`` from ``(1, 0)``, in closed form ``|(1 + i dt)^n + 1|`` (notebook 02's
+    Section 4 checks it against runs), and the error of one step."""
+    n = np.arange(1, n_max + 1)
+    dt = np.pi / n
+    error = np.abs(np.exp(n * np.log1p(1j * dt)) + 1.0)
+    local = np.hypot(1.0 - np.cos(dt), dt - np.sin(dt))
+    return dt, error, local
