@@ -6,9 +6,16 @@ import numpy as np
 import pytest
 
 import course_lib as cl
-from course_lib.check import RESULTS
+from course_lib.check import FAILURES, REGISTRY, RESULTS, evaluate
 from course_lib.check import nb03 as check
 from course_lib.lessons import nb03_stability as ex
+
+
+@pytest.fixture(autouse=True)
+def _first_attempt():
+    """Every test sees the first attempt's hint (the nudge): no failures carried over."""
+    for key in [k for k in FAILURES if k.startswith("nb03.")]:
+        del FAILURES[key]
 
 
 # --- section 1: the decay ------------------------------------------------------------------
@@ -272,25 +279,47 @@ def test_check_largest_stable_dt_limits_come_from_theory():
 
 
 def test_check_largest_stable_dt(capsys):
-    check.largest_stable_dt(_largest_stable_dt)
-    assert _status("largest_stable_dt") == "correct"
+    # (the float64 search is a planted answer below)
     check.largest_stable_dt(lambda *a: _largest_stable_dt(*a, dtype=np.float32))
     assert _status("largest_stable_dt") == "correct"
     capsys.readouterr()
     # the decay formula 2/k, which the old exercise accepted, is now simply wrong
     check.largest_stable_dt(lambda f, y0, method, dt_hi: 2.0)
     assert _status("largest_stable_dt") == "incorrect"
-    assert "never saw an unstable run" in capsys.readouterr().out
-    check.largest_stable_dt(lambda *a: _largest_stable_dt(*a, n_steps=20))
-    assert _status("largest_stable_dt") == "incorrect"
-    assert "too large" in capsys.readouterr().out
-    check.largest_stable_dt(lambda *a: _largest_stable_dt(*a, growth=2.0))
-    assert _status("largest_stable_dt") == "incorrect"
-    assert "too small" in capsys.readouterr().out
+    assert "your function ran no simulation" in capsys.readouterr().out
     check.largest_stable_dt(lambda f, y0, method, dt_hi: "0.5")
     assert _status("largest_stable_dt") == "incorrect"
     check.largest_stable_dt(_pending)
     assert _status("largest_stable_dt") == "pending"
+
+
+@pytest.mark.parametrize(("kwargs", "says", "never"), [
+    # too few steps: the runs above the limit end before they grow to the bound
+    ({"n_steps": 20}, "took 20 steps: just above the limit a run grows slowly", "bound is too"),
+    # a bound that only an overflow reaches: the runs grow enormously and still pass
+    ({"growth": 1e300, "n_steps": 400}, "the blow-up bound is too high", "steps:"),
+    # a bound at twice |y0|: a stable run's transient crosses it
+    ({"growth": 2.0}, "is stable (|R| = 0.9", "bound is too high"),
+])
+def test_largest_stable_dt_hints_name_the_mistake_the_runs_show(kwargs, says, never):
+    """Issue 23: the old check told a search with too few steps, or too high a bound, to
+    "start the bracket at dt_hi", which it already did. The check now reads the runs the
+    search made (it hands over an f that records them) and names the cause."""
+    result = evaluate(check.largest_stable_dt, lambda *a: _largest_stable_dt(*a, **kwargs))
+    text = "\n".join(result["failed_cases"])
+    assert result["status"] == "incorrect" and says in text, text
+    assert never not in text and "start the bracket" not in text
+
+
+def test_the_probe_reads_each_run():
+    A, y0 = np.array([[0.0, 1.0], [-4.0, -2.0]]), np.array([1.0, 0.0])
+    for method, n in (("forward_euler", 37), ("midpoint", 12), ("rk4", 5)):
+        probe = check.Probe(A, y0, method)
+        cl.integrate(probe, y0, (0.0, n * 0.01), 0.01, method)
+        cl.integrate(probe, y0, (1.5, 1.5 + 3 * 0.2), 0.2, method)     # any start time
+        probe(0.0, np.array([1e-7, 0.0]))                                # a Jacobian probe
+        runs = probe.runs()
+        assert [(round(d, 12), k) for d, k, _ in runs] == [(0.01, n), (0.2, 3)], (method, runs)
 
 
 def _bounded(M):
@@ -306,10 +335,22 @@ def _bounded(M):
 def test_check_powers_stay_bounded(capsys):
     for _, M, expected, _ in check.MATRIX_CASES:
         assert check.bounded_reference(M) is expected
-        if expected:  # bounded: the powers stay below a fixed size
-            assert np.max(np.abs(np.linalg.matrix_power(np.array(M), 400))) < 1e3
+    for what, M, expected, _ in check.MATRIX_CASES:
+        with np.errstate(over="ignore", invalid="ignore"):
+            norms = [np.max(np.abs(np.linalg.matrix_power(np.array(M), n))) for n in (400, 10**6)]
+        if what in check.SLOW_CASES:
+            # 400 steps say the opposite of the truth, a million say it
+            assert bool(norms[0] < 50) is (not expected) and bool(norms[1] < 50) is expected, what
+        elif expected:  # bounded: the powers stay below a fixed size
+            assert norms[0] < 1e3, what
         else:
-            assert np.max(np.abs(np.linalg.matrix_power(np.array(M), 400))) > 50
+            assert norms[0] > 50, what
+    # the quoted numbers of the two slow cases
+    jordan = np.array([[0.99999, 1.0], [0.0, 0.99999]])
+    peak = max(np.linalg.matrix_power(jordan, n)[0, 1] for n in (50_000, 100_000, 200_000))
+    assert peak == pytest.approx(100_000 * 0.99999**99_999, rel=1e-9)
+    assert round(peak, -3) == 37_000
+    assert 1.00001 ** 230_000 == pytest.approx(10, rel=0.01)
     check.powers_stay_bounded(_bounded)
     assert _status("powers_stay_bounded") == "correct"
     check.powers_stay_bounded(lambda M: np.bool_(_bounded(M)))
@@ -342,4 +383,101 @@ def test_exercise_wording():
     assert len(check.HIDDEN_METHODS) == 3          # "three methods this notebook never shows"
     assert check.LIMIT_RTOL == 0.02                # "within 2 % of the true limit"
     assert len(check.LIMIT_CASES) == 3             # "three linear systems"
-    assert len(check.MATRIX_CASES) == 10           # "the check tries ten matrices"
+    assert len(check.MATRIX_CASES) == 12           # "the check tries twelve matrices"
+
+
+# --- planted answers: one delegating call, one shortcut the data breaks, one misconception --
+
+
+def planted(source: str, name: str):
+    """A function defined as a notebook cell defines it (module ``__main__``), so that the
+    checks read its bytecode and watch its calls exactly as in a student's kernel."""
+    namespace = {"__name__": "__main__", "np": np, "cl": cl}
+    exec(compile(source, "<cell>", "exec"), namespace)
+    return namespace[name]
+
+
+_SEARCH = ("def largest_stable_dt(f, y0, method, dt_hi):\n"
+           "    y0 = np.asarray(y0, dtype=float)\n    lo, hi = 0.0, dt_hi\n"
+           "    while hi - lo > 1e-3 * hi:\n        mid = 0.5 * (lo + hi)\n"
+           "        run = cl.integrate(f, y0, (0.0, {n} * mid), mid, method,\n"
+           "                           blowup_bound={bound} * np.max(np.abs(y0)))\n"
+           "        lo, hi = (mid, hi) if run.stable else (lo, mid)\n    return lo")
+_JACOBIAN = ("    A = np.column_stack([f(0.0, e) for e in np.eye(len(y0))])\n"
+             "    lams = np.linalg.eigvals(A)\n")
+
+#: (exercise, kind, source, verdict, what the first failure's hint (or message) must say)
+PLANTED = [
+    ("stability_function", "delegating",
+     "def stability_function(step, z):\n    return cl.amplification_factor('rk4', z)",
+     "incorrect", "uses the reference: your function calls "
+     "course_lib.stability.amplification_factor"),
+    ("stability_function", "shortcut: forward Euler's formula (hidden methods break it)",
+     "def stability_function(step, z):\n    return 1 + np.asarray(z, dtype=complex)",
+     "incorrect", "you returned forward Euler's 1 + z"),
+    ("stability_function", "misconception: the change in one step, not the new state",
+     "def stability_function(step, z):\n    z = np.asarray(z, dtype=complex)\n"
+     "    y0 = np.ones_like(z)\n    return step(lambda t, y: z * y, 0.0, y0, 1.0) - y0",
+     "incorrect", "you returned the change R - 1"),
+    ("largest_stable_dt", "delegating: the library's limit, from the Jacobian",
+     "def largest_stable_dt(f, y0, method, dt_hi):\n" + _JACOBIAN
+     + "    return min(cl.max_stable_dt(method, lam) for lam in lams)",
+     "incorrect", "uses the reference: your function calls course_lib.stability.max_stable_dt"),
+    ("largest_stable_dt", "shortcut: the decay formula 2/|λ| (the spring and RK4 break it)",
+     "def largest_stable_dt(f, y0, method, dt_hi):\n" + _JACOBIAN
+     + "    return 2 / np.max(np.abs(lams))",
+     "incorrect", "your function ran no simulation"),
+    ("largest_stable_dt", "shortcut: right by analysis, but no experiment",
+     "def largest_stable_dt(f, y0, method, dt_hi):\n" + _JACOBIAN
+     + "    R = {'forward_euler': lambda z: 1 + z,\n"
+     "         'midpoint': lambda z: 1 + z + z**2 / 2,\n"
+     "         'rk4': lambda z: 1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24}[method]\n"
+     "    lo, hi = 0.0, dt_hi\n"
+     "    for _ in range(60):\n        mid = 0.5 * (lo + hi)\n"
+     "        ok = np.all(np.abs(R(lams * mid)) <= 1 + 1e-12)\n"
+     "        lo, hi = (mid, hi) if ok else (lo, mid)\n    return lo",
+     "incorrect", "found without a single run: the exercise asks for the limit by experiment"),
+    ("largest_stable_dt", "misconception: a few steps are enough",
+     _SEARCH.format(n=20, bound=1e3), "incorrect", "took 20 steps: just above the limit"),
+    ("largest_stable_dt", "the experiment done right",
+     _SEARCH.format(n=2000, bound=1e3), "correct", ""),
+    ("powers_stay_bounded", "delegating: the checks' own judge",
+     "from course_lib.check.nb03 import bounded_reference\n"
+     "def powers_stay_bounded(M):\n    return bounded_reference(M)",
+     "incorrect", "uses the reference: your function calls "
+     "course_lib.check.nb03.bounded_reference"),
+    ("powers_stay_bounded", "shortcut: M^n for a fixed n (the slow cases break it)",
+     "def powers_stay_bounded(M):\n    P = np.array(M)\n"
+     "    with np.errstate(all='ignore'):\n        for _ in range(12):\n            P = P @ P\n"
+     "    return bool(np.max(np.abs(P)) < 1e3)",
+     "incorrect", "a slow growth (|μ| = 1.00001) or a long transient fooled your test"),
+    ("powers_stay_bounded", "shortcut: a step-by-step loop",
+     "def powers_stay_bounded(M):\n    P = np.eye(2)\n    for _ in range(10_000):\n"
+     "        P = P @ M\n    return bool(np.max(np.abs(P)) < 1e3)",
+     "incorrect", "decide from the eigenvalues and eigenvectors of M"),
+    ("powers_stay_bounded", "shortcut: NumPy's matrix_power",
+     "def powers_stay_bounded(M):\n"
+     "    return bool(np.max(np.abs(np.linalg.matrix_power(M, 1000))) < 1e3)",
+     "incorrect", "uses the reference: your function calls numpy.linalg.matrix_power"),
+    ("powers_stay_bounded", "misconception: the spectral radius is all",
+     "def powers_stay_bounded(M):\n"
+     "    return bool(np.max(np.abs(np.linalg.eigvals(M))) <= 1 + 1e-7)",
+     "incorrect", "spectral radius ≤ 1 is not enough"),
+]
+
+
+@pytest.mark.parametrize(("exercise", "kind", "source", "status", "says"), PLANTED,
+                         ids=[f"{p[0]}: {p[1]}" for p in PLANTED])
+def test_planted_answers(exercise, kind, source, status, says):
+    result = evaluate(getattr(check, exercise), planted(source, exercise))
+    assert result["status"] == status, (kind, result["failed_cases"])
+    assert says in "\n".join(result["failed_cases"]), (kind, result["failed_cases"])
+
+
+def test_every_exercise_has_its_three_plants():
+    kinds = {}
+    for exercise, kind, *_ in PLANTED:
+        kinds.setdefault(exercise, set()).add(kind.split(":")[0])
+    assert set(kinds) == {k.split(".")[1] for k in REGISTRY if k.startswith("nb03.")}
+    for exercise, found in kinds.items():
+        assert {"delegating", "shortcut", "misconception"} <= found, exercise
