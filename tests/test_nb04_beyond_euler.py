@@ -8,8 +8,15 @@ import numpy as np
 import pytest
 
 import course_lib as cl
-from course_lib.check import RESULTS
+from course_lib.check import FAILURES, REGISTRY, RESULTS, evaluate
 from course_lib.check import nb04 as check
+
+
+@pytest.fixture(autouse=True)
+def _first_attempt():
+    """Every test sees the first attempt's hint (the nudge): no failures carried over."""
+    for key in [k for k in FAILURES if k.startswith("nb04.")]:
+        del FAILURES[key]
 
 ONE_STEP = ["forward_euler", "midpoint", "heun", "rk4", "backward_euler", "trapezoidal"]
 J = np.array([[0.0, -1.0], [1.0, 0.0]])
@@ -247,7 +254,10 @@ def _in_place(f, t, y, dt):
     (lambda f, t, y, dt: y + 0.5 * dt * f(t, y), "half-step prediction"),
     (_in_place, "in place"),
     (lambda f, t, y, dt: y + 0.5 * dt * f(t + 0.5 * dt, y + 0.5 * dt * f(t, y)),
-     "y_mid = y + (dt/2) f(t, y); y_next"),
+     "the whole dt with the midpoint slope"),
+    (lambda f, t, y, dt: y + dt * f(0.5 * dt, y + 0.5 * dt * f(0.0, y)), "pass the step's time"),
+    (lambda f, t, y, dt: y + dt * f(t + 0.3 * dt, y + 0.5 * dt * f(t, y)),
+     "predict the state half a step ahead"),
 ])
 def test_midpoint_step_mistakes(wrong, hint, capsys):
     status, out = verdict(check.midpoint_step, wrong, capsys, "midpoint_step")
@@ -470,6 +480,26 @@ def _imr_newton(f, t, y, dt):
     return Y
 
 
+def _trapezoid_newton(f, t, y, dt):
+    y = np.asarray(y, dtype=float)
+    f0 = f(t, y)
+    return _newton(lambda Y: Y - y - 0.5 * dt * (f0 + f(t + dt, Y)), y + dt * f0)
+
+
+def _newton(residual, Y):
+    for _ in range(30):
+        r = residual(Y)
+        if np.max(np.abs(r)) < 1e-14:
+            break
+        jac = np.empty((Y.size, Y.size))
+        for j in range(Y.size):
+            e = np.zeros(Y.size)
+            e[j] = 1e-7
+            jac[:, j] = (residual(Y + e.reshape(Y.shape)) - r).ravel() / 1e-7
+        Y = Y - np.linalg.solve(jac, r.ravel()).reshape(Y.shape)
+    return Y
+
+
 def _imr_fixed_point(f, t, y, dt, iterations=200):
     Y = np.array(y, dtype=float)
     with np.errstate(all="ignore"):
@@ -478,14 +508,43 @@ def _imr_fixed_point(f, t, y, dt, iterations=200):
     return Y
 
 
+def _imr_half_step(f, t, y, dt):
+    """The substitution of the notebook's aftermath, Z = (y + Y)/2 solved by Newton as one
+    backward Euler half step, written out (no library call): also right."""
+    y = np.asarray(y, dtype=float)
+
+    def residual(Z):
+        return Z - y - 0.5 * dt * f(t + 0.5 * dt, Z)
+
+    Z = y.copy()
+    for _ in range(30):
+        r = residual(Z)
+        if np.max(np.abs(r)) < 1e-15:
+            break
+        jac = np.empty((y.size, y.size))
+        for j in range(y.size):
+            e = np.zeros(y.size)
+            e[j] = 1e-7
+            jac[:, j] = (residual(Z + e.reshape(y.shape)) - r).ravel() / 1e-7
+        Z = Z - np.linalg.solve(jac, r.ravel()).reshape(y.shape)
+    return 2 * Z - y
+
+
 def test_implicit_midpoint_accepts_right_answers(capsys):
-    for answer in (_imr_newton,
-                   lambda f, t, y, dt: 2 * cl.backward_euler(f, t, y, dt / 2) - y,
+    for answer in (_imr_newton, _imr_half_step,
                    lambda f, t, y, dt: _imr_newton(f, t, y, dt).astype(np.float32)):
         status, out = verdict(check.implicit_midpoint_step, answer, capsys,
                               "implicit_midpoint_step")
         assert status == "correct", out
     assert "(and |Y| = |y|)" in out
+
+
+def test_implicit_midpoint_refuses_the_library_identity(capsys):
+    """Issue 23: ``2 * cl.backward_euler(f, t, y, dt/2) - y`` passed; it calls the library."""
+    status, out = verdict(check.implicit_midpoint_step,
+                          lambda f, t, y, dt: 2 * cl.backward_euler(f, t, y, dt / 2) - y,
+                          capsys, "implicit_midpoint_step")
+    assert status == "incorrect" and "uses the reference" in out
 
 
 def test_implicit_midpoint_keeps_the_swirls_radius_and_solves_its_equation():
@@ -507,7 +566,9 @@ def test_implicit_midpoint_keeps_the_swirls_radius_and_solves_its_equation():
 
 @pytest.mark.parametrize("wrong, hint", [
     (_imr_fixed_point, "diverged"),
-    (lambda f, t, y, dt: cl.trapezoidal(f, t, y, dt), "that is the trapezoid"),
+    (lambda f, t, y, dt: _trapezoid_newton(f, t, y, dt), "that is the trapezoid"),
+    (lambda f, t, y, dt: cl.trapezoidal(f, t, y, dt), "uses the reference"),
+    (lambda f, t, y, dt: _imr_newton(lambda s, u: f(s - t, u), t, y, dt), "pass the step's time"),
     (lambda f, t, y, dt: y + dt * f(t + 0.5 * dt, y + 0.5 * dt * f(t, y)), "EXPLICIT midpoint"),
     (lambda f, t, y, dt: _imr_newton(lambda s, u: f(t, u), t, y, dt), "time t + dt/2"),
     (lambda f, t, y, dt: _imr_fixed_point(f, t, y, dt, iterations=2), "residual"),
@@ -522,3 +583,193 @@ def test_midpoint_step_accepts_float32(capsys):
     status, out = verdict(check.midpoint_step, lambda f, t, y, dt: _midpoint(f, t, y, dt).astype(
         np.float32), capsys, "midpoint_step")
     assert status == "correct", out
+
+
+# --- planted answers: one delegating call, one shortcut the data breaks, one misconception --
+
+
+def planted(source: str, name: str):
+    """A function defined as a notebook cell defines it (module ``__main__``), so that the
+    checks read its bytecode and watch its calls exactly as in a student's kernel."""
+    namespace = {"__name__": "__main__", "np": np, "cl": cl}
+    exec(compile(source, "<cell>", "exec"), namespace)
+    return namespace[name]
+
+
+_NEWTON = ("def implicit_midpoint_step(f, t, y, dt):\n    y = np.asarray(y, dtype=float)\n"
+           "    def residual(Y):\n        return Y - y - dt * f({time}, 0.5 * (y + Y))\n"
+           "    Y = y + dt * f(t, y)\n    for _ in range(20):\n        r = residual(Y)\n"
+           "        jac = np.empty((y.size, y.size))\n        for j in range(y.size):\n"
+           "            e = np.zeros(y.size)\n            e[j] = 1e-7\n"
+           "            jac[:, j] = (residual(Y + e.reshape(y.shape)) - r).ravel() / 1e-7\n"
+           "        Y = Y - np.linalg.solve(jac, r.ravel()).reshape(y.shape)\n    return Y")
+
+#: (exercise, kind, source, verdict, what the first failure's hint (or message) must say)
+PLANTED = [
+    ("midpoint_step", "delegating",
+     "def midpoint_step(f, t, y, dt):\n    return cl.step('midpoint', f, t, y, dt)",
+     "incorrect", "uses the reference: your function calls course_lib.steppers.step"),
+    ("midpoint_step", "shortcut: t frozen at 0 (the pulsing vortex breaks it)",
+     "def midpoint_step(f, t, y, dt):\n"
+     "    return y + dt * f(0.5 * dt, y + 0.5 * dt * f(0.0, y))",
+     "incorrect", "pass the step's time to f"),
+    ("midpoint_step", "misconception: Heun's average of two slopes",
+     "def midpoint_step(f, t, y, dt):\n    k1 = f(t, y)\n"
+     "    return y + 0.5 * dt * (k1 + f(t + dt, y + dt * k1))",
+     "incorrect", "that is Heun's method"),
+    ("backward_euler_decay", "delegating: the library's implicit solver",
+     "def backward_euler_decay(x0, k, dt, n):\n"
+     "    run = cl.integrate(lambda t, x: -k * x, [x0], (0.0, max(n, 1) * dt), dt,\n"
+     "                       method='backward_euler')\n    return run.y[: n + 1, 0]",
+     "incorrect", "uses the reference: your function calls course_lib.integrators.integrate"),
+    ("backward_euler_decay", "delegating: SciPy's Newton (the prompt says no Newton)",
+     "from scipy.optimize import newton\n"
+     "def backward_euler_decay(x0, k, dt, n):\n    xs = [x0]\n    for _ in range(n):\n"
+     "        xs.append(newton(lambda u: u - xs[-1] + dt * k * u, xs[-1]))\n"
+     "    return np.array(xs)",
+     "incorrect", "uses the reference: your function calls scipy.optimize"),
+    ("backward_euler_decay", "shortcut: x0 = 1 built in (x0 = 2 and 3 break it)",
+     "def backward_euler_decay(x0, k, dt, n):\n    return 1 / (1 + k * dt) ** np.arange(n + 1)",
+     "incorrect", "multiply by x0"),
+    ("backward_euler_decay", "misconception: forward Euler's factor",
+     "def backward_euler_decay(x0, k, dt, n):\n    return x0 * (1 - k * dt) ** np.arange(n + 1)",
+     "incorrect", "is FORWARD Euler"),
+    ("implicit_midpoint_step", "delegating: half a backward Euler step, then extrapolate",
+     "def implicit_midpoint_step(f, t, y, dt):\n"
+     "    return 2 * cl.backward_euler(f, t, y, dt / 2) - y",
+     "incorrect", "uses the reference: your function calls course_lib.steppers.backward_euler"),
+    ("implicit_midpoint_step", "delegating: SciPy's solver (Newton is the exercise)",
+     "from scipy.optimize import fsolve\n"
+     "def implicit_midpoint_step(f, t, y, dt):\n    y = np.asarray(y, dtype=float)\n"
+     "    g = lambda Y: (Y.reshape(y.shape) - y - dt * f(t + dt / 2, (y + Y.reshape(y.shape)) / 2)).ravel()\n"
+     "    return fsolve(g, y.ravel(), xtol=1e-14).reshape(y.shape)",
+     "incorrect", "uses the reference: your function calls scipy.optimize"),
+    ("implicit_midpoint_step", "shortcut: fixed-point iteration (the stiff decay breaks it)",
+     "def implicit_midpoint_step(f, t, y, dt):\n    y = np.asarray(y, dtype=float)\n"
+     "    Y = y.copy()\n    with np.errstate(all='ignore'):\n        for _ in range(60):\n"
+     "            Y = y + dt * f(t + dt / 2, (y + Y) / 2)\n    return Y",
+     "incorrect", "your iteration diverged"),
+    ("implicit_midpoint_step", "misconception: the explicit midpoint",
+     "def implicit_midpoint_step(f, t, y, dt):\n"
+     "    return y + dt * f(t + dt / 2, y + dt / 2 * f(t, y))",
+     "incorrect", "that is the EXPLICIT midpoint"),
+    ("implicit_midpoint_step", "misconception: t frozen at 0",
+     _NEWTON.format(time="0.5 * dt"), "incorrect", "pass the step's time to f"),
+    ("implicit_midpoint_step", "Newton written out", _NEWTON.format(time="t + 0.5 * dt"),
+     "correct", ""),
+]
+
+
+@pytest.mark.parametrize(("exercise", "kind", "source", "status", "says"), PLANTED,
+                         ids=[f"{p[0]}: {p[1]}" for p in PLANTED])
+def test_planted_answers(exercise, kind, source, status, says):
+    result = evaluate(getattr(check, exercise), planted(source, exercise))
+    assert result["status"] == status, (kind, result["failed_cases"])
+    assert says in "\n".join(result["failed_cases"]), (kind, result["failed_cases"])
+
+
+def test_every_exercise_has_its_three_plants():
+    kinds = {}
+    for exercise, kind, *_ in PLANTED:
+        kinds.setdefault(exercise, set()).add(kind.split(":")[0])
+    assert set(kinds) == {k.split(".")[1] for k in REGISTRY if k.startswith("nb04.")}
+    for exercise, found in kinds.items():
+        assert {"delegating", "shortcut", "misconception"} <= found, exercise
+
+
+# --- the follower explorer (Section 5): κ dt against the first steps and R(-κ dt) ---------
+
+
+def test_follower_experiment_against_the_theory():
+    from course_lib.lessons import nb04_beyond_euler as lesson
+
+    f, jac, exact = lesson.follower()
+    for kappa_dt in (0.1, 1.5, 2.1, 2.9, 100.0):
+        r = lesson.follower_experiment(kappa_dt)
+        assert r.dt == pytest.approx(kappa_dt / 1000.0, rel=1e-15)
+        np.testing.assert_allclose(r.x_exact[[0, -1]], exact(np.array([0.0, 40 * r.dt]),
+                                                              [0.0, 0.0])[:, 0], rtol=1e-12)
+        for m in lesson.FOLLOWER_METHODS:
+            assert r.R[m] == pytest.approx(cl.amplification_factor(m, -kappa_dt).real, rel=1e-14)
+            assert r.stable[m] == (abs(r.R[m]) <= 1)
+            kw = {"jac": jac} if m in ("backward_euler", "trapezoidal") else {}
+            run = cl.integrate(f, [0.0, 0.0], (0.0, 40 * r.dt), r.dt, m, blowup_bound=1e3, **kw)
+            np.testing.assert_array_equal(r.x[m][: len(run.t)], run.y[:, 0])
+            assert np.all(np.isnan(r.x[m][len(run.t):]))
+    # the limits the prose names: forward Euler overshoots past 1, forward Euler and
+    # midpoint blow up past 2 (midpoint without flipping sign), RK4 past 2.785
+    assert lesson.follower_experiment(0.9).R["forward_euler"] > 0
+    assert lesson.follower_experiment(1.1).R["forward_euler"] < 0
+    r = lesson.follower_experiment(2.1)
+    assert not r.stable["forward_euler"] and not r.stable["midpoint"] and r.stable["rk4"]
+    assert r.R["forward_euler"] < -1 and r.R["midpoint"] > 1
+    assert not lesson.follower_experiment(2.8).stable["rk4"]
+    assert lesson.follower_experiment(2.78).stable["rk4"]
+    r = lesson.follower_experiment(100.0)                     # "R ≈ -0.96" for the trapezoid
+    assert round(r.R["trapezoidal"], 2) == -0.96 and r.R["backward_euler"] == pytest.approx(1 / 101)
+    # backward Euler "follows the target from the first step"
+    assert np.max(np.abs(r.x["backward_euler"][1:] - exact(r.n[1:] * r.dt, [0.0, 0.0])[:, 0])) < 0.02
+    with pytest.raises(ValueError, match="kappa_dt must lie in"):
+        lesson.follower_experiment(500.0)
+
+
+@pytest.fixture(scope="module")
+def follower_view_module():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from course_lib.lessons import nb04_follower_view
+
+    return nb04_follower_view
+
+
+def test_follower_explorer_answers_a_slider(follower_view_module):
+    view = follower_view_module.follower_explorer(kappa_dt=1.5)
+    first = view.image.value
+    assert first[:8] == b"\x89PNG\r\n\x1a\n" and view.result.kappa_dt == 1.5
+    view.controls["kappa_dt"].value = 2.9
+    assert view.result.kappa_dt == pytest.approx(2.9) and view.image.value != first
+    assert not view.result.stable["rk4"] and view.result.stable["backward_euler"]
+    assert "Follower explorer (interactive)" in view._repr_mimebundle_()["text/plain"]
+
+
+def test_follower_plot_blit_draws_what_a_full_redraw_draws(follower_view_module):
+    from io import BytesIO
+
+    from PIL import Image
+
+    from course_lib.lessons.nb04_beyond_euler import follower_experiment
+
+    fast = follower_view_module.FollowerPlot(blit=True)
+    fast(follower_experiment(50.0))
+    fast.png()
+    fast(follower_experiment(1.9))
+    full = follower_view_module.FollowerPlot(blit=False)
+    full(follower_experiment(1.9))
+    a, b = (np.asarray(Image.open(BytesIO(p.png())).convert("L"), dtype=float)
+            for p in (fast, full))
+    assert a.shape == b.shape and np.mean(np.abs(a - b) > 40) < 0.002
+
+
+def test_follower_player(follower_view_module):
+    from course_lib.lessons.nb04_beyond_euler import follower_experiment
+
+    player = follower_view_module.follower_player(kappa_dts=(1.9, 2.1))
+    assert player.labels == ["κ dt = 1.9", "κ dt = 2.1"]
+    assert player.captions == [follower_experiment(k).verdict for k in (1.9, 2.1)]
+    assert "all five stable" not in player.captions[1] and "forward Euler" in player.captions[1]
+    dts = follower_view_module.FOLLOWER_KAPPA_DTS
+    assert len(dts) == 9 and min(dts) == 0.2 and max(dts) == 100.0    # "nine values"
+    assert player.nbytes < 300_000
+
+
+def test_todays_default_is_an_embedded_pair():
+    """Section 4: the default of solve_ivp is Dormand & Prince's fifth-order pair (with a
+    fourth-order error estimate), and DOP853 its eighth-order sibling."""
+    import inspect
+
+    from scipy.integrate import DOP853, RK45, solve_ivp
+
+    assert inspect.signature(solve_ivp).parameters["method"].default == "RK45"
+    assert RK45.order == 5 and RK45.error_estimator_order == 4
+    assert DOP853.order == 8

@@ -41,6 +41,10 @@ _HEUN = (
 _RETURNED_MID = (
     "you returned the half-step prediction y_mid; the step is y + dt * f(t + dt/2, y_mid)"
 )
+_FROZEN_T = (
+    "pass the step's time to f: this field changes with time, and you evaluated it as if "
+    "the step started at t = 0"
+)
 
 
 def pulsing_vortex(t, X):
@@ -64,23 +68,27 @@ _MIDPOINT_CASES = [
 ]
 
 
-@exercise
+@exercise(allow=())
 def midpoint_step(ck: Checker, student) -> None:
     """Compare ``student(f, t, y, dt)`` with :func:`course_lib.midpoint`."""
     def mistakes(f, t, y, dt):
         k1 = f(t, y)
         y_mid = y + 0.5 * dt * k1
         return {
+            _FROZEN_T: y + dt * f(0.5 * dt, y + 0.5 * dt * f(0.0, y)),
             _START_TWICE: y + dt * k1,
             _TIME_AT_START: y + dt * f(t, y_mid),
             _TIME_AT_END: y + dt * f(t + dt, y_mid),
             _FULL_PREDICTOR: y + dt * f(t + 0.5 * dt, y + dt * k1),
             _HEUN: y + 0.5 * dt * (k1 + f(t + dt, y + dt * k1)),
             _RETURNED_MID: y_mid,
+            "step the whole dt with the midpoint slope, not dt/2":
+                y + 0.5 * dt * f(t + 0.5 * dt, y_mid),
         }
 
     step_cases(ck, student, _MIDPOINT_CASES, midpoint, mistakes,
-               hint="y_mid = y + (dt/2) f(t, y); y_next = y + dt f(t + dt/2, y_mid)")
+               hint=("predict the state half a step ahead, then step the whole dt with the slope "
+                     "there", "y_mid = y + (dt/2) f(t, y); y_next = y + dt f(t + dt/2, y_mid)"))
 
 
 _DECAY_CASES = [(1.0, 1.0, 0.1, 10), (2.0, 5.0, 0.5, 6), (1.0, 100.0, 0.1, 5), (3.0, 0.5, 2.0, 0)]
@@ -99,7 +107,7 @@ def decay_newton(x0: float, k: float, dt: float, n: int) -> np.ndarray:
     return traj.y[:, 0]
 
 
-@exercise
+@exercise(allow=(), forbid=("scipy.optimize",))
 def backward_euler_decay(ck: Checker, student) -> None:
     """``student(x0, k, dt, n)`` must return ``[x_0, ..., x_n]`` of backward Euler on decay."""
     for x0, k, dt, n in _DECAY_CASES:
@@ -132,9 +140,11 @@ def backward_euler_decay(ck: Checker, student) -> None:
             "x0 e^(-k t) is the exact solution, not what backward Euler computes":
                 x0 * np.exp(-k * dt * j),
             "the factor is 1/(1 + k dt): you left out dt": x0 / (1.0 + k) ** j,
+            "start from the initial value: multiply by x0": 1.0 / (1.0 + k * dt) ** j,
         }
-        ok = close(ck, got, formula, what, rtol=1e-10, atol=1e-15,
-                   hint="x_n = x0 / (1 + k dt)^n", mistakes=mistakes)
+        ok = close(ck, got, formula, what, rtol=1e-10, atol=1e-15, mistakes=mistakes,
+                   hint=("solve x_next = x + dt (-k x_next) for x_next: each step multiplies by "
+                         "the same factor", "x_n = x0 / (1 + k dt)^n"))
         if ok:
             ck.passed[-1] += " (matches the closed form and course_lib's Newton solver)"
 
@@ -186,9 +196,12 @@ def implicit_midpoint_reference(f, t, y, dt):
     return sol.x.reshape(y.shape)
 
 
-@exercise
+@exercise(allow=(), forbid=("scipy.optimize",))
 def implicit_midpoint_step(ck: Checker, student) -> None:
-    """``student(f, t, y, dt)``: the implicit midpoint rule, solved to round-off."""
+    """``student(f, t, y, dt)``: the implicit midpoint rule, solved to round-off.
+
+    Newton's method is the exercise: a solver that does it (``scipy.optimize``) or a library
+    step that does (``2 * backward_euler(f, t, y, dt/2) - y``) is refused."""
     for what, f, t, y, dt, keeps_norm in MIDPOINT_RULE_CASES:
         y = np.asarray(y, dtype=float)
         expected = implicit_midpoint_reference(f, t, y, dt)
@@ -201,6 +214,8 @@ def implicit_midpoint_step(ck: Checker, student) -> None:
                 "unknown end Y; solve for Y": y + dt * f(t + 0.5 * dt, mid),
                 "evaluate f at the middle of the step, time t + dt/2, not at t":
                     implicit_midpoint_reference(lambda s, u, f=f, t=t: f(t, u), t, y, dt),
+                _FROZEN_T: implicit_midpoint_reference(lambda s, u, f=f, t=t: f(s - t, u),
+                                                       t, y, dt),
             }
         ok, got = pure_call(ck, what, student, f, t, y, dt)
         if not ok:

@@ -14,7 +14,10 @@ at the scale of the motion it is asked to draw.
 
 - :func:`follower` returns ``f``, its (constant) Jacobian and the exact solution;
 - :func:`cost_study` runs each method with a range of step counts and records the error at
-  the end, the right-hand-side evaluations (``Trajectory.nfev``) and the wall-clock time.
+  the end, the right-hand-side evaluations (``Trajectory.nfev``) and the wall-clock time;
+- :func:`follower_experiment` is the pure half of the follower explorer (the view is in
+  :mod:`course_lib.lessons.nb04_follower_view`): the first steps of every method at one
+  ``κ dt``, beside the exact solution and each method's ``R(-κ dt)``.
 
 Imports the core only.
 """
@@ -27,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..integrators import IMPLICIT_METHODS, integrate
+from ..stability import amplification_factor
 
 #: Stiffness of the follower's spring (1/s).
 KAPPA = 1000.0
@@ -94,3 +98,62 @@ def cheapest(rows, method: str, target: float) -> CostRow | None:
     """The run of ``method`` with the fewest f-evaluations whose error is below ``target``."""
     good = [r for r in rows if r.method == method and r.error <= target]
     return min(good, key=lambda r: r.nfev) if good else None
+
+
+# --- the follower explorer: κ dt against the first steps and R along the real axis -------
+
+#: The methods the explorer compares, explicit first.
+FOLLOWER_METHODS = ("forward_euler", "midpoint", "rk4", "backward_euler", "trapezoidal")
+#: Range of the explorer's κ dt (dimensionless: the catch-up mode's z = -κ dt).
+KAPPA_DT_RANGE = (0.05, 200.0)
+
+
+@dataclass
+class FollowerResult:
+    """The first ``steps`` steps of each method on the stiff follower at one ``κ dt``.
+
+    ``kappa_dt`` and ``dt = κ dt / κ`` (s); ``n`` ``(steps+1,)``, the step numbers;
+    ``x[method]`` ``(steps+1,)`` (m): the x coordinate of each run, NaN after a run stopped
+    (blew past ``|X| = 1000`` m); ``R[method]``: its amplification factor at
+    ``z = -κ dt`` (real); ``stable[method]``: ``|R| <= 1``; ``n_exact``, ``x_exact``: the
+    exact x on a fine grid, in steps; ``verdict``: one line.
+    """
+
+    kappa_dt: float
+    dt: float
+    n: np.ndarray
+    x: dict
+    R: dict
+    stable: dict
+    n_exact: np.ndarray
+    x_exact: np.ndarray
+    verdict: str
+
+
+def follower_experiment(kappa_dt: float, steps: int = 40, kappa: float = KAPPA) -> FollowerResult:
+    """Every method of :data:`FOLLOWER_METHODS` for ``steps`` steps of ``dt = κ dt / κ`` on
+    the follower from the origin (pure; what the follower explorer draws)."""
+    if not KAPPA_DT_RANGE[0] <= kappa_dt <= KAPPA_DT_RANGE[1]:
+        raise ValueError(f"kappa_dt must lie in {KAPPA_DT_RANGE}, got {kappa_dt!r}")
+    f, jac, exact = follower(kappa)
+    dt = kappa_dt / kappa
+    n = np.arange(steps + 1)
+    x, R, stable = {}, {}, {}
+    for m in FOLLOWER_METHODS:
+        kw = {"jac": jac} if m in IMPLICIT_METHODS else {}
+        run = integrate(f, [0.0, 0.0], (0.0, steps * dt), dt, m, blowup_bound=1e3, **kw)
+        x[m] = np.full(steps + 1, np.nan)
+        x[m][: len(run.t)] = run.y[:, 0]
+        R[m] = float(amplification_factor(m, -kappa_dt).real)
+        stable[m] = abs(R[m]) <= 1.0
+    n_exact = np.linspace(0.0, steps, 801)
+    x_exact = exact(n_exact * dt, [0.0, 0.0])[:, 0]
+    parts = [f"{_LABELS[m]} R = {R[m]:.3g}" for m in FOLLOWER_METHODS]
+    blown = [_LABELS[m] for m in FOLLOWER_METHODS if not stable[m]]
+    verdict = (f"κ dt = {kappa_dt:.3g} (dt = {1e3 * dt:.3g} ms): " + ", ".join(parts) + "; "
+               + (f"unstable: {', '.join(blown)}" if blown else "all five stable"))
+    return FollowerResult(kappa_dt, dt, n, x, R, stable, n_exact, x_exact, verdict)
+
+
+_LABELS = {"forward_euler": "forward Euler", "midpoint": "midpoint", "rk4": "RK4",
+           "backward_euler": "backward Euler", "trapezoidal": "trapezoid"}
