@@ -27,6 +27,7 @@ import numpy as np
 
 from .. import _validate
 from .quaternion import cross, rotate
+from .quaternion import hat as _hat
 
 #: Penetration tolerated before positions are corrected, as a fraction of a body's size.
 ALLOWED = 1e-3
@@ -57,15 +58,6 @@ def _coefficients(restitution, friction, iterations, rest_speed):
     if rest < 0:
         raise ValueError(f"rest_speed must be >= 0 (m/s), got {rest}")
     return e, mu, _validate.positive_int("iterations", iterations), rest
-
-
-def _hat(r):
-    """Cross-product matrices ``r̂`` (``r̂ a = r × a``), shape (..., 3, 3)."""
-    out = np.zeros((*r.shape[:-1], 3, 3))
-    out[..., 0, 1], out[..., 0, 2] = -r[..., 2], r[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = r[..., 2], -r[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -r[..., 1], r[..., 0]
-    return out
 
 
 def _mv(A, x):

@@ -59,15 +59,6 @@ def energy(L, moments) -> np.ndarray:
     return 0.5 * np.sum(L * L / moments, axis=-1)
 
 
-def _hat(v) -> np.ndarray:
-    """Cross-product matrices ``v̂`` (``v̂ u = v × u``), shape ``(..., 3, 3)``."""
-    out = np.zeros((*v.shape[:-1], 3, 3))
-    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
-    return out
-
-
 def implicit_solve(L, moments, dt: float, theta: float) -> np.ndarray:
     """Solve ``L1 = L + Δt g(Lθ)``, ``Lθ = (1 − θ) L + θ L1``, ``g`` :func:`gyroscopic`, by
     Newton's method (vectorized over bodies); ``θ = ½`` is the midpoint rule, ``θ = 1``
@@ -78,7 +69,7 @@ def implicit_solve(L, moments, dt: float, theta: float) -> np.ndarray:
     for _ in range(NEWTON_MAX_ITER):
         Lt = (1.0 - theta) * L + theta * L1
         residual = L1 - L - dt * gyroscopic(Lt, moments)
-        jac = np.eye(3) - dt * theta * (_hat(Lt) / moments[..., None, :] - _hat(Lt / moments))
+        jac = np.eye(3) - dt * theta * (quat.hat(Lt) / moments[..., None, :] - quat.hat(Lt / moments))
         delta = np.linalg.solve(jac, residual[..., None])[..., 0]
         L1 = L1 - delta
         if np.all(np.linalg.norm(delta, axis=-1) <= scale):

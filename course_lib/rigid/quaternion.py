@@ -31,6 +31,16 @@ def cross(a, b) -> np.ndarray:
     return out
 
 
+def hat(v) -> np.ndarray:
+    """Cross-product matrices ``v̂`` (``v̂ u = v × u``), shape ``(..., 3, 3)``."""
+    v = np.asarray(v, dtype=float)
+    out = np.zeros((*v.shape[:-1], 3, 3))
+    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
+    return out
+
+
 def multiply(p, q) -> np.ndarray:
     """Hamilton product ``p ⊗ q`` of quaternions of shape ``(..., 4)`` (broadcast).
 
