@@ -25,7 +25,7 @@ from course_lib.instructor.grade import grade_class
 from course_lib.instructor.sandbox import Limits
 from course_lib.instructor.verdicts import FIELDS, STATUSES
 
-LIMITS = Limits(deadline=60, cell_s=6, exercise_s=4, memory_mb=1024, grace=1.0)
+LIMITS = Limits(deadline=60, cell_s=6, exercise_s=6, memory_mb=1024, grace=1.0)
 
 
 def digest(folder: Path) -> dict[str, str]:
