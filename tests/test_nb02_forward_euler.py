@@ -125,6 +125,7 @@ def test_drift_per_revolution_is_about_pi_dt():
 # --- Section 4: convergence ------------------------------------------------------------------
 
 
+@pytest.mark.roundoff
 def test_observed_order_is_one():
     dts, errors = vortex_convergence()
     order = np.polyfit(np.log(dts), np.log(errors), 1)[0]
@@ -136,6 +137,7 @@ def test_observed_order_is_one():
     assert errors[-1] == pytest.approx(2.4e-3, abs=0.05e-3)
 
 
+@pytest.mark.roundoff
 def test_convergence_errors_match_the_closed_form():
     # N steps of I + dt J from (1, 0) give (1 + i dt)^N in complex notation; the exact end
     # point is e^{i pi} = -1. So every plotted error has a closed form.
@@ -325,6 +327,7 @@ def _gyre_ends():
     return counts, ends, ref, orders
 
 
+@pytest.mark.roundoff
 def test_three_grid_table_quoted():
     _, ends, ref, orders = _gyre_ends()
     assert [round(p, 4) for p in orders] == [-0.6716, 0.714, 1.1102, 1.1212, 1.0743, 1.0401]

@@ -176,6 +176,7 @@ def test_cayley_transform_is_a_rotation():
 # --- Section 4: observed orders and costs ---------------------------------------------------
 
 
+@pytest.mark.roundoff
 @pytest.mark.parametrize("method, quoted", [
     ("forward_euler", 1.009), ("midpoint", 2.000), ("heun", 2.000), ("rk4", 3.998),
     ("backward_euler", 0.991), ("trapezoidal", 2.000),
@@ -186,6 +187,7 @@ def test_observed_orders(study, method, quoted):
     assert round(order, 3) == quoted
 
 
+@pytest.mark.roundoff
 def test_cost_for_target_error(study):
     need = {}
     for m in ["forward_euler", "midpoint", "heun", "rk4"]:
@@ -316,6 +318,7 @@ def test_backward_euler_radius_is_2_over_sqrt5():
     assert f"{2 / math.sqrt(5):.6f}" == "0.894427"
 
 
+@pytest.mark.roundoff
 def test_printed_costs_for_target_error(study):
     printed = {"forward_euler": 214470, "midpoint": 1508, "heun": 1508, "rk4": 149}
     for m, quoted in printed.items():
@@ -430,6 +433,7 @@ def test_stiff_limits_quoted():
     assert cl.amplification_factor("backward_euler", z).real == pytest.approx(1 / 99, rel=0.01)
 
 
+@pytest.mark.roundoff
 def test_stiff_cost_table_quoted(stiff):
     lesson, rows = stiff
     for m in ("forward_euler", "midpoint", "rk4"):

@@ -222,10 +222,12 @@ def implicit_midpoint_step(ck: Checker, student) -> None:
             continue
         answer = as_array(got)
         if answer is not None and answer.shape == y.shape and not np.all(np.isfinite(answer)):
+            stiff = f is _stiff  # the one case where an iteration that diverges is likely
             ck.expect(False, what, "your step returned NaN or inf",
-                      "fixed-point iteration Y <- y + dt f(t + dt/2, (y + Y)/2) diverges when "
-                      "dt |∂f/∂y| / 2 > 1 (a stiff problem): use Newton's method on the "
-                      "residual, with a finite-difference Jacobian")
+                      ("fixed-point iteration Y <- y + dt f(t + dt/2, (y + Y)/2) diverges when "
+                       "dt |∂f/∂y| / 2 > 1, as here: use Newton's method on the residual, with a "
+                       "finite-difference Jacobian") if stiff else
+                      "look for a division by zero or an overflow in your iteration")
             continue
         # The residual names the failure for a float64 answer; a float32 one is judged on
         # its value alone (its rounding alone leaves a residual of ~1e-7).
