@@ -210,3 +210,15 @@ def test_rows_survive_the_journal_exactly():
     assert back.csv() == row.csv() and back.details["run"].cells == run.cells
     assert back.details["run"].exercises == {"f": {"found": True}}  # recorded calls are not kept
     assert back.details["notebook"] == row.details["notebook"]
+
+
+def test_synth_class_command_line(tmp_path, capsys):
+    from course_lib.instructor.__main__ import main
+
+    assert main(["synth-class", str(tmp_path / "c"), "--n", "9", "--seed", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "wrote 9 students" in out and (tmp_path / "c" / "roster.csv").exists()
+    with (tmp_path / "c" / "roster.csv").open() as fh:
+        assert [r["student"] for r in csv.DictReader(fh)] == [f"s{i:04d}" for i in range(1, 10)]
+    assert main(["synth-class", str(tmp_path / "d"), "--n", "2", "--assignment", "99_nothing"]) == 2
+    assert "unknown ['99_nothing']" in capsys.readouterr().err
