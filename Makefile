@@ -28,7 +28,7 @@ lab: $(STAMP)
 
 # Every test, in stages (each timed; a table at the end says where the time went):
 #   setup, lint, unit (unit and property tests, doctests), notebooks (strict nbval of the
-#   solutions, each re-run in other orders in its kernel, and the student versions, whose
+#   solutions, each re-run bottom to top in its kernel, and the student versions, whose
 #   cells are stored unrun so strict nbval only runs them, as --nbval-lax would), second
 #   rounding (the tests marked roundoff and strict nbval of the solutions again, with
 #   NumPy's SIMD kernels one level down: tests/roundings.py), browser.
@@ -44,6 +44,9 @@ XDIST  := -n $(JOBS) --dist loadfile
 # Hypothesis: derandomized in make test (reproducible anywhere), random in make fuzz.
 CI_HYPOTHESIS := HYPOTHESIS_PROFILE=ci
 ROUNDOFF_TESTS = $(shell grep -l "mark.roundoff" tests/test_*.py)
+# Re-runs of each solution after Run All: reverse (every cell after all the later ones
+# ran again) keeps make test within 10 minutes; RERUN_ORDERS=reverse,random adds a shuffle.
+RERUN_ORDERS ?= reverse
 TEST_STAGES := lint test-unit test-nbval test-rounding test-browser
 
 test:
@@ -57,9 +60,10 @@ test-unit: $(STAMP)
 	@$(STAGE) run unit -- env $(CI_HYPOTHESIS) $(PYTEST) $(XDIST) -p no:cacheprovider \
 		tests --ignore=tests/browser --doctest-modules course_lib
 
-# Solutions (strict, then re-run in other orders) and student versions in one run.
+# Solutions (strict, then re-run in RERUN_ORDERS) and student versions in one run.
 test-nbval: $(STAMP)
 	@$(STAGE) run notebooks -- $(PYTEST) $(XDIST) --nbval $(NBVAL) --nbval-rerun=solutions \
+		--nbval-rerun-orders=$(RERUN_ORDERS) \
 		solutions notebooks
 
 test-solutions: $(STAMP)

@@ -2,9 +2,10 @@
 
 The re-runs themselves are tests of the notebook run: ``make test`` runs nbval with
 ``--nbval-rerun=solutions`` (the plugin in ``tests/nbval_rerun.py``), so right after nbval
-has run a solution top to bottom, its cells run again bottom to top and in a seeded random
-order in the same kernel, and ``solutions/NN.ipynb::rerun in other orders`` fails with the
-cells that raised. This file tests that plugin: which cells and orders it uses, that it
+has run a solution top to bottom, its cells run again bottom to top (every cell after all
+the later ones ran again; ``make test RERUN_ORDERS=reverse,random`` adds a seeded shuffle)
+in the same kernel, and ``solutions/NN.ipynb::rerun in other orders`` fails with the cells
+that raised. This file tests that plugin: which cells and orders it uses, that it
 catches a cell broken by a later one, and that ``make test`` asks for it.
 """
 
@@ -75,6 +76,7 @@ def test_a_cell_broken_by_a_later_cell_fails_the_rerun():
 def test_make_test_reruns_the_solutions():
     makefile = (ROOT / "Makefile").read_text()
     assert "--nbval-rerun=solutions" in makefile
+    assert re.search(r"^RERUN_ORDERS \?= reverse", makefile, re.M)
 
 
 def test_the_orders_can_be_chosen_and_unknown_ones_are_named():
