@@ -53,7 +53,8 @@ def test_ci_runs_exactly_the_readme_test_command():
     assert "make test" in readme and "make lab" in readme
 
 
-@pytest.mark.parametrize("target", ["lab", "test", "student", "grade", "execute"])
+@pytest.mark.parametrize("target", ["lab", "test", "student", "grade", "execute", "fuzz",
+                                    "test-unit", "test-nbval", "test-rounding", "test-browser"])
 def test_makefile_targets_exist(target):
     assert re.search(rf"^{target}:", (ROOT / "Makefile").read_text(), re.M)
 
@@ -62,3 +63,12 @@ def test_lab_never_disables_the_token_and_binds_localhost():
     makefile = (ROOT / "Makefile").read_text()
     assert "--ServerApp.ip=127.0.0.1" in makefile
     assert not re.search(r"token=(''|\"\"|\s)", makefile)
+
+
+def test_make_test_runs_every_stage_and_says_where_time_went():
+    makefile = (ROOT / "Makefile").read_text()
+    stages = re.search(r"^TEST_STAGES := (.*)$", makefile, re.M).group(1).split()
+    assert stages == ["lint", "test-unit", "test-nbval", "test-rounding", "test-browser"]
+    test_rule = makefile.split("\ntest:\n", 1)[1].split("\n\n", 1)[0]
+    assert "$(STAGE) run setup" in test_rule and "$(STAGE) summary" in test_rule
+    assert "HYPOTHESIS_PROFILE=ci" in makefile and "HYPOTHESIS_PROFILE=fuzz" in makefile
