@@ -1,10 +1,18 @@
-"""Checks for notebook 11, cloth: one spring's Jacobian block, and the explicit step limit."""
+"""Checks for notebook 11, cloth: one spring's Jacobian block, the explicit step limit, one
+Baraff-Witkin solve by conjugate gradients, and the peak stretch of a run.
+
+No answer may call the library (``allow=()``): ``cl.springs.jacobian_x``, which the first
+exercise is about, and :class:`~course_lib.baraff_witkin.BaraffWitkin`, which the third
+is about, are refused like every other library function; SciPy's ``cg`` is fine.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
 from .. import cloth, springs
+from ..baraff_witkin import BaraffWitkin
+from ..lessons import nb11_cloth
 from . import Checker, exercise
 
 _SEED = 1111
@@ -18,7 +26,7 @@ def _spring_cases():
         yield f"a random spring ({n + 1})", rng.normal(size=3), float(rng.uniform(10, 500)), 1.0
 
 
-@exercise
+@exercise(allow=())
 def spring_jacobian(ck: Checker, func) -> None:
     """``func(xi, xj, k, rest) -> (3, 3)``: ``∂F_i/∂x_i`` of one Hooke spring."""
     rng = np.random.default_rng(_SEED + 1)
@@ -31,14 +39,15 @@ def spring_jacobian(ck: Checker, func) -> None:
         u = d / length
         uu, side = np.outer(u, u), np.eye(3) - np.outer(u, u)
         mistakes = {
-            "sign: moving x_i away from x_j along the spring makes F_i pull back harder, so "
-            "∂F_i/∂x_i = -k[...] is negative along u": -expected,
-            "you kept only the stiffness along the spring: a stretched spring also pulls a "
-            "sideways displacement back, add (1 - L/ℓ)(I - u uᵀ)": -k * uu,
-            "the sideways factor is (1 - L/ℓ), not L/ℓ": -k * (uu + rest / length * side),
-            "the sideways factor is the dimensionless (1 - L/ℓ), not ℓ - L":
-                -k * (uu + (length - rest) * side),
-            "use the unit vector u = d/|d| in u uᵀ, not d itself":
+            ("sign: moving x_i away from x_j along the spring makes F_i pull back harder",
+             "∂F_i/∂x_i = -k[...] is negative along u"): -expected,
+            ("you kept only the stiffness along the spring: a stretched spring also pulls a "
+             "sideways displacement back", "add (1 - L/ℓ)(I - u uᵀ) for the sideways part"): -k * uu,
+            ("check the sideways factor at ℓ = L: a spring at rest has no sideways stiffness",
+             "the sideways factor is (1 - L/ℓ), not L/ℓ"): -k * (uu + rest / length * side),
+            ("the sideways factor must be dimensionless", "the sideways factor is (1 - L/ℓ), "
+             "not ℓ - L"): -k * (uu + (length - rest) * side),
+            ("u uᵀ must be built from a unit vector", "use u = d/|d| in u uᵀ, not d itself"):
                 -k * (np.outer(d, d) + (1 - rest / length) * side),
         }
         got = np.asarray(func(xi.copy(), xj.copy(), k, rest), dtype=float)
@@ -66,7 +75,7 @@ def _limit_cases():
     yield "8-particle strand, root pinned, masses from 0.5 to 2 g", chain, rng.uniform(5e-4, 2e-3, 8)
 
 
-@exercise
+@exercise(allow=())
 def explicit_limit(ck: Checker, func) -> None:
     """``func(K, mass) -> dt_max``: symplectic Euler's limit from a stiffness matrix."""
     for what, c, mass in _limit_cases():
@@ -79,7 +88,8 @@ def explicit_limit(ck: Checker, func) -> None:
         lam = np.linalg.eigvalsh(K / np.sqrt(np.outer(m3, m3)))
         tiled = np.tile(m, 3)
         mistakes = {
-            "include the masses: the frequencies solve K φ = ω² M φ, so use M^(-1/2) K M^(-1/2)":
+            ("include the masses: the frequencies solve K φ = ω² M φ",
+             "include the masses: use the eigenvalues of M^(-1/2) K M^(-1/2)"):
                 2.0 / np.sqrt(np.linalg.eigvalsh(K).max()),
             "with unequal masses one mass will not do: scale each row and column of K by "
             "1/√m of its own particle": 2.0 / np.sqrt(np.linalg.eigvalsh(K).max() / m.mean()),
@@ -91,5 +101,118 @@ def explicit_limit(ck: Checker, func) -> None:
         }
         got = func(K.copy(), m.copy())
         ck.close(got, expected, f"{what}: {K.shape[0]} unknowns", rtol=1e-8, mistakes=mistakes,
-                 hint="the fastest mode sets the limit: the largest eigenvalue λ_max of "
-                      "M^(-1/2) K M^(-1/2) is ω_max²")
+                 hint=("the fastest mode sets the limit", "the fastest mode sets the limit: the "
+                       "largest eigenvalue λ_max of M^(-1/2) K M^(-1/2) is ω_max²"))
+
+
+# --- one Baraff-Witkin solve ------------------------------------------------------------
+
+
+def _solve_cases():
+    """Small cloths in stretched, crumpled states with velocities: undamped, damped,
+    unequal masses, stiff."""
+    rng = np.random.default_rng(_SEED + 3)
+    for what, k, c, masses, speed in [
+            ("4 × 4 cloth, undamped, at rest", 200.0, 0.0, "equal", 0.0),
+            ("4 × 4 cloth, undamped, moving", 200.0, 0.0, "equal", 0.3),
+            ("4 × 4 cloth, damped (c = 0.5 N s/m), moving", 200.0, 0.5, "equal", 0.3),
+            ("5 × 5 cloth, damped, masses from 1 to 5 g, moving", 300.0, 0.2, "unequal", 0.5),
+            ("5 × 5 stiff cloth (k = 30000 N/m), damped, moving", 30000.0, 1.0, "unequal", 0.5)]:
+        n = 4 if what.startswith("4") else 5
+        sheet = cloth.sheet(n=n, size=0.3, total_mass=0.02, k_struct=k, c=c, pinned="none")
+        x = sheet.x0 * 1.08 + 0.004 * rng.normal(size=sheet.x0.shape)     # stretched, crumpled
+        v = speed * rng.normal(size=x.shape)
+        mass = sheet.mass if masses == "equal" else rng.uniform(1e-3, 5e-3, sheet.n)
+        yield what, sheet.network, x, v, mass
+
+
+@exercise(allow=())
+def bw_velocity_change(ck: Checker, func) -> None:
+    """``func(mass, dFdx, dFdv, F0, v0, h) -> (N, 3)``: Δv of one Baraff-Witkin step."""
+    h = 1.0 / 30.0
+    for what, net, x, v, mass in _solve_cases():
+        dFdx, dFdv = springs.jacobian_x(net, x).tocsr(), springs.jacobian_v(net, x).tocsr()
+        F0 = net.forces(x, v).copy()
+        # the exact linearization (definite=False keeps every geometric term), solved tightly
+        solver = BaraffWitkin(net, mass, rtol=1e-13, definite=False, warm_start=False)
+        expected = solver.step(x, v, h)[1] - v
+        m3 = np.repeat(mass, 3)
+        dense_x, dense_v = dFdx.toarray(), dFdv.toarray()
+
+        def solve(A, b, shape=x.shape):
+            return np.linalg.solve(A, b).reshape(shape)
+
+        right = F0.ravel() + h * (dense_x @ v.ravel())          # F0 + h ∂F/∂x v0
+        mistakes = {
+            ("the damping force also depends on the end velocity: keep the h ∂F/∂v term",
+             "A = M - h ∂F/∂v - h² ∂F/∂x"): solve(np.diag(m3) - h * h * dense_x, h * right),
+            ("the force at the end of the step also depends on where the start velocity takes "
+             "the particles", "b = h (F0 + h ∂F/∂x v0)"):
+                solve(np.diag(m3) - h * dense_v - h * h * dense_x, h * F0.ravel()),
+            ("sign: ∂F/∂x is negative definite for springs, so -h² ∂F/∂x adds stiffness",
+             "A = M - h ∂F/∂v - h² ∂F/∂x, with the minus sign"):
+                solve(np.diag(m3) - h * dense_v + h * h * dense_x, h * right),
+            ("each particle's mass sits on its three rows (x, y, z)",
+             "use np.repeat(mass, 3), not np.tile"):
+                solve(np.diag(np.tile(mass, 3)) - h * dense_v - h * h * dense_x, h * right),
+            ("return the change of velocity, not the new velocity", "return Δv = v1 - v0"):
+                expected + v,
+            ("check the units of the right side: ∂F/∂x v0 is in N/s", "b = h (F0 + h ∂F/∂x v0): "
+             "the force's change over the step is h ∂F/∂x v0"):
+                solve(np.diag(m3) - h * dense_v - h * h * dense_x, h * (F0.ravel() + dense_x @ v.ravel())),
+        }
+        got = func(mass.copy(), dFdx.copy(), dFdv.copy(), F0.copy(), v.copy(), h)
+        try:
+            got = np.asarray(got, dtype=float)
+        except (TypeError, ValueError):
+            ck.expect(False, what, f"expected an array of shape {x.shape}, got {type(got).__name__}")
+            continue
+        if got.shape == (x.size,):
+            got = got.reshape(x.shape)
+        scale = np.abs(expected).max()
+        ck.close(got, expected, what, rtol=1e-6, atol=1e-7 * scale, mistakes=mistakes,
+                 hint=("close, but not to 1e-6: is the solve converged?",
+                       "conjugate gradients stop at their tolerance: pass rtol=1e-10 (SciPy's "
+                       "default, 1e-5, leaves errors of about κ × 1e-5)"))
+
+
+# --- the peak stretch of a run --------------------------------------------------------------
+
+
+def _strain_cases():
+    rng = np.random.default_rng(_SEED + 4)
+    sheet = cloth.sheet(n=4, size=0.3, total_mass=0.02)
+    frames = np.repeat(sheet.x0[None], 5, axis=0)
+    frames[2, 5] += [0.0, 0.0, 0.012]                  # a stretch in the middle of the run
+    frames[4, 9] += [0.0, 0.0, -0.03]                  # a larger compression at the end
+    yield "a 4 × 4 cloth: stretched at frame 2, compressed more at frame 4", frames, sheet
+    drift = sheet.x0[None] + np.cumsum(0.002 * rng.normal(size=(40, *sheet.x0.shape)), axis=0)
+    yield "a 4 × 4 cloth wandering for 40 frames", drift, sheet
+    big = cloth.sheet(n=8, size=0.5, total_mass=0.05)
+    run = cloth.simulate(big, "symplectic_euler", frames=12, substeps=40)
+    yield "an 8 × 8 cloth falling for 12 frames", run.x, big
+
+
+@exercise(allow=())
+def peak_strain(ck: Checker, func) -> None:
+    """``func(x, i, j, rest) -> float``: the largest ``(ℓ - L)/L`` over frames and springs."""
+    for what, x, sheet in _strain_cases():
+        s = sheet.network.select("struct")
+        strain = nb11_cloth.strains(sheet, x)              # the notebook's own definition
+        expected = float(strain.max())
+        mistakes = {
+            ("compression is not stretch: take the largest (ℓ - L)/L, keeping its sign",
+             "np.max((ℓ - L) / L), not np.max(|ℓ - L| / L)"): float(np.abs(strain).max()),
+            ("the stretch can peak before the last frame", "take the largest over every frame"):
+                float(strain[-1].max()),
+            ("strain is relative to the rest length L", "(ℓ - L) / L, not (ℓ - L) / ℓ"):
+                float(((np.linalg.norm(x[:, s.j] - x[:, s.i], axis=-1) - s.rest)
+                       / np.linalg.norm(x[:, s.j] - x[:, s.i], axis=-1)).max()),
+            ("a strain is a fraction", "return the fraction (0.05), not the percentage (5)"):
+                100 * expected,
+            ("the largest over the springs, not their mean", "np.max over frames and springs"):
+                float(strain.mean(axis=1).max()),
+        }
+        got = func(x.copy(), s.i.copy(), s.j.copy(), s.rest.copy())
+        ck.close(got, expected, f"{what}: {len(s.rest)} structural springs", rtol=1e-9,
+                 atol=1e-12, mistakes=mistakes)

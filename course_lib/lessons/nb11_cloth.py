@@ -3,7 +3,10 @@
 Holds the notebook's cloth (:func:`hanging`: 12 × 12 particles, 0.55 m, 0.1 kg, two
 corners pinned) and the drape over a sphere (:func:`drape`); the checks of the
 Baraff–Witkin ingredients (:func:`jacobian_check` against central differences,
-:func:`damping_ratios` on a single spring); and the cost study (:func:`work_per_frame`).
+:func:`damping_ratios` on a single spring, :func:`condition_numbers` and the CG bound
+:func:`cg_bound`); the cloth at rest (:func:`rest_state`, an energy minimum found
+independently of any run); the stretch of structural springs (:func:`strains`); and the
+study of when large steps pay (:func:`large_steps`: cost and stretch against stiffness).
 Built on :mod:`course_lib.cloth`, :mod:`course_lib.springs` and
 :mod:`course_lib.baraff_witkin`; the drawings are in :mod:`course_lib.lessons.nb11_drawings`.
 The core never imports this module.
@@ -75,24 +78,101 @@ def damping_ratios(k: float = 100.0, m: float = 1.0, h: float = 0.1, steps: int 
     return np.array(ratios)
 
 
-def work_per_frame(k_values, frames: int = 15, fps: float = 30.0, safety: float = 0.95):
-    """For each structural stiffness: the substeps an explicit run needs per frame
-    (``safety × 2/ω_max``), the mean CG iterations of one Baraff–Witkin step per frame at
-    ``rtol = 1e-2``, and the wall time (s) of ``frames`` frames of each."""
+def condition_numbers(c: cloth.Cloth, h: float) -> dict:
+    """The condition number of Baraff and Witkin's matrix ``M + h² K`` (no damping) at the
+    rest shape, over the free coordinates: ``kappa`` (eigenvalues of the dense matrix),
+    ``jacobi`` (after the Jacobi scaling ``D^(-1/2) A D^(-1/2)`` that CG's preconditioner
+    applies) and ``formula`` ``1 + h² ω_max²`` (equal masses, and a flat sheet has modes of
+    zero stiffness, so the smallest eigenvalue is ``m``)."""
+    free = np.setdiff1d(np.arange(c.n), c.pinned)
+    dofs = (free[:, None] * 3 + np.arange(3)).ravel()
+    K = np.asarray(springs.stiffness_matrix(c.network, c.x0))[np.ix_(dofs, dofs)]
+    A = np.diag(np.repeat(c.mass[free], 3)) + h * h * K
+    lam = np.linalg.eigvalsh(A)
+    d = np.sqrt(np.diag(A))
+    lam_j = np.linalg.eigvalsh(A / np.outer(d, d))
+    omega, _ = frequency_and_limit(c)
+    return {"kappa": float(lam.max() / lam.min()), "jacobi": float(lam_j.max() / lam_j.min()),
+            "formula": float(1.0 + (h * omega) ** 2)}
+
+
+def cg_bound(kappa: float, rtol: float) -> int:
+    """Iterations after which conjugate gradients has surely reduced the error (in the
+    energy norm) by ``rtol``: ``½ √κ ln(2/rtol)``, from ``2 ((√κ − 1)/(√κ + 1))^k``."""
+    return int(np.ceil(0.5 * np.sqrt(kappa) * np.log(2.0 / rtol)))
+
+
+def rest_state(c: cloth.Cloth, start=None, gravity=(0.0, -9.81, 0.0)):
+    """The cloth hanging at rest: the minimum of its elastic plus gravitational energy over
+    the free particles, found by a trust-region Newton method (SciPy's ``trust-krylov``)
+    with the exact Hessian's products, from ``start`` (default: the end of 2 s of
+    Baraff-Witkin steps, near rest). Returns the positions (N, 3) (m), the energy (J),
+    the largest remaining force (N) and the smallest eigenvalue of the Hessian (N/m),
+    positive at a minimum."""
+    from scipy.optimize import minimize
+
+    g = np.asarray(gravity, dtype=float)
+    free = np.setdiff1d(np.arange(c.n), c.pinned)
+    if start is None:
+        start = cloth.simulate(c, "baraff_witkin", frames=60, rtol=1e-3).x[-1]
+
+    def full(z):
+        x = np.array(start, dtype=float)
+        x[free] = z.reshape(-1, 3)
+        return x
+
+    def energy_and_gradient(z):
+        x = full(z)
+        force = c.network.forces(x) + c.mass[:, None] * g
+        return c.network.energy(x) - np.sum(c.mass * (x @ g)), -force[free].ravel()
+
+    def hessian_product(z, p):
+        q = np.zeros_like(start)
+        q[free] = p.reshape(-1, 3)
+        return c.network.linearize(full(z), definite=False).product(q, stiffness=1.0)[free].ravel()
+
+    found = minimize(energy_and_gradient, np.asarray(start)[free].ravel(), jac=True,
+                     hessp=hessian_product, method="trust-krylov", options={"gtol": 1e-11})
+    x = full(found.x)
+    dofs = (free[:, None] * 3 + np.arange(3)).ravel()
+    hessian = np.asarray(springs.stiffness_matrix(c.network, x))[np.ix_(dofs, dofs)]
+    smallest = np.linalg.eigvalsh(hessian)[0]
+    return x, float(found.fun), float(np.abs(found.jac).max()), float(smallest)
+
+
+def strains(c: cloth.Cloth, x) -> np.ndarray:
+    """Strain ``(ℓ − L)/L`` of every structural spring at positions ``x`` (``(..., N, 3)``,
+    m): shape ``(..., S)``; positive when stretched."""
+    s = c.network.select("struct")
+    x = np.asarray(x, dtype=float)
+    length = np.sqrt(np.sum((x[..., s.j, :] - x[..., s.i, :]) ** 2, axis=-1))
+    return (length - s.rest) / s.rest
+
+
+def large_steps(factors=(1, 10, 100), damping_ratio: float = 0.1, frames: int = 30,
+                fps: float = 30.0, safety: float = 0.9):
+    """For each stiffness factor (× the notebook's 300 N/m, damping ``damping_ratio`` of
+    critical): symplectic Euler at ``safety`` × its measured limit against one
+    Baraff-Witkin step per frame, over ``frames`` frames. Each row holds the measured
+    limit (s), the substeps per frame, the mean CG iterations per step, the CPU time of
+    each run (s), and the structural strain per frame of each run."""
     rows = []
-    for k in k_values:
-        c = hanging(k_struct=k)
-        _, limit = frequency_and_limit(c)
+    for factor in factors:
+        c = hanging(k_struct=CLOTH["k_struct"] * factor, damping_ratio=damping_ratio)
+        limit = cloth.explicit_dt_max(c)
         substeps = int(np.ceil(1.0 / (fps * safety * limit)))
-        t0 = time.perf_counter()
-        explicit = cloth.simulate(c, "symplectic_euler", frames=frames, substeps=substeps)
-        t1 = time.perf_counter()
-        implicit = cloth.simulate(c, "baraff_witkin", frames=frames, rtol=1e-2)
-        t2 = time.perf_counter()
+        t0 = time.process_time()
+        explicit = cloth.simulate(c, "symplectic_euler", frames=frames, fps=fps, substeps=substeps)
+        t1 = time.process_time()
+        implicit = cloth.simulate(c, "baraff_witkin", frames=frames, fps=fps)
+        t2 = time.process_time()
         if not (explicit.stable and implicit.stable):
-            raise AssertionError(f"a run of the cost study blew up at k = {k}")
-        rows.append({"k": k, "substeps": substeps, "iterations": float(implicit.iterations.mean()),
-                     "explicit_s": t1 - t0, "implicit_s": t2 - t1})
+            raise AssertionError(f"a run of the large-steps study blew up at factor {factor}")
+        rows.append({"factor": factor, "k": c.network.select("struct").k[0], "limit": limit,
+                     "substeps": substeps, "iterations": float(implicit.iterations.mean()),
+                     "explicit_s": t1 - t0, "implicit_s": t2 - t1,
+                     "explicit_strain": strains(c, explicit.x).max(axis=1),
+                     "implicit_strain": strains(c, implicit.x).max(axis=1)})
     return rows
 
 
