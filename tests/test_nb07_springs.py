@@ -4,6 +4,7 @@ import itertools
 
 import numpy as np
 import pytest
+from planted import Plant, define, judge
 
 import course_lib as cl
 from course_lib import springs as S
@@ -16,38 +17,56 @@ K, M, X0 = 10.0, 1.0, 0.1
 
 
 def test_oscillator_numbers():
-    omega = np.sqrt(K / M)
+    """Section 1: bounded energy, a phase error that grows linearly, symplectic Euler's tilt."""
+    omega, dt = np.sqrt(K / M), 0.05
     assert omega == pytest.approx(3.1623, abs=5e-5)
     assert 2 * np.pi / omega == pytest.approx(1.9869, abs=5e-5)
-    system, y0, net = S.anchored_spring(K, M, stretch=X0)
-    errors, early, periods = {}, {}, {}
-    for method in ("symplectic_euler", "velocity_verlet"):
-        traj = cl.integrate(system, y0, (0.0, 10.0), 0.05, method=method)
-        s = net.lengths(cl.split_state(traj.y)[0])[:, 0] - 1.0
-        err = np.abs(s - X0 * np.cos(omega * traj.t))
-        errors[method] = err.max()
-        early[method] = err[traj.t <= 2.0].max()
-        periods[method] = cl.events.measured_period(traj.t, s)
-    assert errors["symplectic_euler"] == pytest.approx(1.10e-2, rel=5e-3)
-    assert errors["velocity_verlet"] == pytest.approx(3.12e-3, rel=5e-3)
-    assert f"{early['symplectic_euler']:.1e}" == "8.4e-03" and f"{early['velocity_verlet']:.1e}" == "5.0e-04"
-    # "about x0 omega dt / 2 = 0.008 m": symplectic Euler's first-order tilt
-    assert X0 * omega * 0.05 / 2 == pytest.approx(0.008, abs=5e-4)
-    assert early["symplectic_euler"] == pytest.approx(X0 * omega * 0.05 / 2, rel=0.1)
-    # "over 10 s that lag grows to 0.003 m"
-    assert round(errors["velocity_verlet"], 3) == 0.003
-    # both oscillate with the discrete frequency cos(w~ dt) = 1 - w^2 dt^2 / 2: 1.9848 s
-    w_tilde = np.arccos(1 - (omega * 0.05) ** 2 / 2) / 0.05
-    assert 2 * np.pi / w_tilde == pytest.approx(1.9848, abs=5e-5)
+    w_tilde = np.arccos(1 - (omega * dt) ** 2 / 2) / dt
+    assert f"{w_tilde - omega:.4f}" == "0.0033"
     # too fast: w~ = w (1 + w^2 dt^2 / 24 + ...)
-    assert w_tilde / omega - 1 == pytest.approx((omega * 0.05) ** 2 / 24, rel=5e-3)
-    for method in periods:
-        assert round(periods[method], 4) == 1.9848
-        assert periods[method] == pytest.approx(2 * np.pi / w_tilde, rel=2e-5)
-    # the two step matrices have the same trace 2 - w^2 dt^2
-    for method in periods:
-        A = nb07.step_matrix(method, K, M, 0.0, 0.05)
-        assert np.trace(A) == pytest.approx(2 - (omega * 0.05) ** 2, rel=1e-14)
+    assert w_tilde / omega - 1 == pytest.approx((omega * dt) ** 2 / 24, rel=5e-3)
+    assert 2 * np.pi / w_tilde == pytest.approx(1.9848, abs=5e-5)
+    system, y0, net = S.anchored_spring(K, M, stretch=X0)
+    got = {}
+    for method in ("symplectic_euler", "velocity_verlet"):
+        traj = cl.integrate(system, y0, (0.0, 10.0), dt, method=method)
+        x, v = cl.split_state(traj.y)
+        axis = (x[:, 1] - x[:, 0]) / np.linalg.norm(x[:, 1] - x[:, 0], axis=1)[:, None]
+        s = net.lengths(x)[:, 0] - 1.0
+        speed = np.einsum("nd,nd->n", v[:, 1] - v[:, 0], axis)
+        energy = (0.5 * M * speed**2 + 0.5 * K * s**2) / (0.5 * K * X0**2)
+        phase = np.unwrap(np.arctan2(-speed / omega, s)) - omega * traj.t
+        err = np.abs(s - X0 * np.cos(omega * traj.t))
+        period = cl.events.measured_period(traj.t, s)
+        got[method] = (err[traj.t <= 2].max(), err[traj.t >= 8].max(), np.abs(energy - 1).max(),
+                       period, phase)
+        assert round(period, 4) == 1.9848
+        assert period == pytest.approx(2 * np.pi / w_tilde, rel=2e-5)
+        assert f"{2 * np.pi / period - omega:.4f}" == "0.0033"
+    se, vv = got["symplectic_euler"], got["velocity_verlet"]
+    # printed: 8.4e-03 / 1.1e-02 m and 5.0e-04 / 3.1e-03 m; the error GROWS for both
+    assert (f"{se[0]:.1e}", f"{se[1]:.1e}") == ("8.4e-03", "1.1e-02")
+    assert (f"{vv[0]:.1e}", f"{vv[1]:.1e}") == ("5.0e-04", "3.1e-03")
+    assert se[1] > 1.25 * se[0] and vv[1] > 5 * vv[0]
+    # "about x0 omega dt / 2 = 0.008 m": symplectic Euler's first-order tilt
+    assert X0 * omega * dt / 2 == pytest.approx(0.008, abs=5e-4)
+    assert se[0] == pytest.approx(X0 * omega * dt / 2, rel=0.1)
+    # Verlet's late error is the phase error alone: x0 (w~ - w) t at t = 10 s
+    assert vv[1] == pytest.approx(X0 * (w_tilde - omega) * 10.0, rel=0.06)
+    # the energy bands of notebook 05: h/2 / (1 - h/2) and h²/4 with h = ω dt = 0.158
+    h = omega * dt
+    assert se[2] == pytest.approx(1 / (1 - h / 2) - 1, rel=1e-4) and f"{se[2]:.5f}" == "0.08584"
+    assert vv[2] == pytest.approx(h * h / 4, rel=1e-4) and f"{vv[2]:.5f}" == "0.00625"
+    assert round(100 * se[2], 1) == 8.6 and round(100 * vv[2], 1) == 0.6
+    # phase at 10 s: Verlet on the line (w~ - w) t; symplectic Euler above it by its wobble
+    assert f"{vv[4][-1]:.3f}" == "0.032" and f"{se[4][-1]:.3f}" == "0.038"
+    assert vv[4][-1] == pytest.approx((w_tilde - omega) * 10.0, abs=2e-3)
+    wobble = se[4] - (w_tilde - omega) * np.arange(se[4].size) * dt
+    assert -1e-3 < wobble.min() and wobble.max() < h / 2 + 1e-3
+    # the two step matrices have the same trace 2 - w^2 dt^2 and determinant 1
+    for method in got:
+        A = nb07.step_matrix(method, K, M, 0.0, dt)
+        assert np.trace(A) == pytest.approx(2 - h**2, rel=1e-14)
         assert np.linalg.det(A) == pytest.approx(1.0, rel=1e-14)
 
 
@@ -64,7 +83,8 @@ def test_internal_forces_sum_to_zero_and_no_torque():
     # "about 10^-14 of the forces"
     assert np.linalg.norm(F.sum(axis=0)) < 1e-12 * np.abs(F).max()
     assert np.linalg.norm(np.cross(x, F).sum(axis=0)) < 1e-12 * np.abs(F).max()
-    # "max |F + dE/dx| = 1.5e-07 N": forces are minus the energy gradient (central differences)
+    # "max |F + dE/dx| < 1e-6 N": forces are minus the energy gradient (central differences,
+    # whose round-off is about eps × E / h = 2e-16 × 1e3 J / 1e-6 m = 2e-7 N)
     h = 1e-6
     grad = np.zeros_like(x)
     for a in range(n):
@@ -72,7 +92,7 @@ def test_internal_forces_sum_to_zero_and_no_torque():
             e = np.zeros_like(x)
             e[a, p] = h
             grad[a, p] = (net.energy(x + e) - net.energy(x - e)) / (2 * h)
-    assert np.abs(F + grad).max() == pytest.approx(1.5e-7, abs=5e-9)
+    assert np.abs(F + grad).max() < 1e-6
     # a translating pair at rest length feels no force, even with critical damping
     pair = S.SpringNetwork([0], [1], [1.0], [K], [S.critical_damping(K, M)], 2)
     xs = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
@@ -256,172 +276,141 @@ def test_spring_explorer_view():
 # --- the exercise checks -------------------------------------------------------------------
 
 
-def _status(name):
-    return RESULTS[f"nb07.{name}"]["status"]
-
-
-def test_check_spring_force(capsys):
-    check.spring_force(lambda x1, x2, k, L: S.spring_force_pair(x1, x2, k, L))
-    assert _status("spring_force") == "correct"
-
-    def sign_error(x1, x2, k, L):
-        return -S.spring_force_pair(x1, x2, k, L)
-
-    def not_normalised(x1, x2, k, L):
-        d = x1 - x2
-        return -k * (np.linalg.norm(d) - L) * d
-
-    def rest_not_stretch(x1, x2, k, L):
-        d = x1 - x2
-        return -k * L * d / np.linalg.norm(d)
-
-    capsys.readouterr()
-    for wrong, hint in [(sign_error, "sign error"), (not_normalised, "forgot to normalise"),
-                        (rest_not_stretch, "used the rest length L instead of the stretch")]:
-        check.spring_force(wrong)
-        assert _status("spring_force") == "incorrect"
-        assert hint in capsys.readouterr().out
-
-    def pending(x1, x2, k, L):
-        raise NotImplementedError()
-
-    check.spring_force(pending)
-    assert _status("spring_force") == "pending"
-
-
-def test_check_spring_force_float32_and_reference(capsys):
-    check.spring_force(lambda x1, x2, k, L: S.spring_force_pair(x1, x2, k, L).astype(np.float32))
-    assert _status("spring_force") == "correct"
-
-    def borrowed(x1, x2, k, L):
-        return cl.springs.spring_force_pair(x1, x2, k, L)
-
-    borrowed.__module__ = "__main__"             # as if written in the notebook
-    capsys.readouterr()
-    check.spring_force(borrowed)
-    assert _status("spring_force") == "incorrect" and "uses the reference" in capsys.readouterr().out
-
-    def nan_force(x1, x2, k, L):
-        return np.full(3, np.nan)
-
-    check.spring_force(nan_force)
-    assert "returned NaN" in capsys.readouterr().out
-
-
-def _damped(k, m, c):
+SPRING_RIGHT = """def spring_force(x1, x2, k, rest):
+    d = np.asarray(x1, dtype=float) - np.asarray(x2, dtype=float)
+    length = np.linalg.norm(d)
+    return -k * (length - rest) * d / length"""
+DAMPED_RIGHT = """def damped_dt_max(k, m, c):
     gamma = c / m
-    return 4.0 / (gamma + np.sqrt(gamma**2 + 4.0 * k / m))
-
-
-def test_check_damped_dt_max(capsys):
-    check.damped_dt_max(_damped)
-    assert _status("damped_dt_max") == "correct"
-    check.damped_dt_max(lambda k, m, c: np.float32(_damped(k, m, c)))
-    assert _status("damped_dt_max") == "correct"
-    capsys.readouterr()
-    wrong = {
-        "undamped limit 2/ω": lambda k, m, c: 2 * np.sqrt(m / k),
-        "forgot to divide c by m": lambda k, m, c: 4 / (c + np.sqrt(c**2 + 4 * k / m)),
-        "wrong root": lambda k, m, c: (c / m + np.sqrt((c / m) ** 2 + 4 * k / m)) / (k / m),
-        "the discriminant": lambda k, m, c: (-c / m + np.sqrt((c / m) ** 2 + 16 * k / m)) / (k / m),
-    }
-    for hint, answer in wrong.items():
-        check.damped_dt_max(answer)
-        assert _status("damped_dt_max") == "incorrect"
-        assert hint in capsys.readouterr().out, hint
-
-    def borrowed(k, m, c):
-        return nb07.symplectic_euler_limit(k, m, c)
-
-    borrowed.__module__ = "__main__"
-    check.damped_dt_max(borrowed)
-    assert _status("damped_dt_max") == "incorrect" and "uses the reference" in capsys.readouterr().out
-
-    def pending(k, m, c):
-        raise NotImplementedError()
-
-    check.damped_dt_max(pending)
-    assert _status("damped_dt_max") == "pending"
-
-
-def _network(x, v, i, j, rest, k, c):
+    return 4.0 / (gamma + np.sqrt(gamma**2 + 4.0 * k / m))"""
+NETWORK_RIGHT = """def network_forces(x, v, i, j, rest, k, c):
     d = x[i] - x[j]
     length = np.linalg.norm(d, axis=1)
     u = d / length[:, None]
     f = -(k * (length - rest) + c * np.einsum("md,md->m", v[i] - v[j], u))[:, None] * u
-    F = np.zeros_like(x)
+    F = np.zeros_like(x, dtype=float)
     np.add.at(F, i, f)
     np.add.at(F, j, -f)
-    return F
+    return F"""
+SEARCH = """def damped_dt_max(k, m, c):
+    S = lambda dt: np.array([[1 - k / m * dt**2, dt * (1 - c / m * dt)], [-k / m * dt, 1 - c / m * dt]])
+    lo, hi = 1e-6, 10.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if np.abs(np.linalg.eigvals(S(mid))).max() <= 1:
+            lo = mid
+        else:
+            hi = mid
+    return lo"""
+
+PLANTS = [
+    Plant("spring_force", "other", "right", SPRING_RIGHT, "correct", ""),
+    Plant("spring_force", "other", "right, float32", SPRING_RIGHT.replace(
+        "return -k * (length - rest) * d / length",
+        "return (-k * (length - rest) * d / length).astype(np.float32)"), "correct", ""),
+    Plant("spring_force", "delegating", "cl.springs.spring_force_pair",
+          "def spring_force(x1, x2, k, rest):\n    return cl.springs.spring_force_pair(x1, x2, k, rest)",
+          "incorrect", "spring_force_pair"),
+    Plant("spring_force", "delegating", "a one-spring SpringNetwork",
+          "def spring_force(x1, x2, k, rest):\n"
+          "    net = cl.springs.SpringNetwork([0], [1], [rest], [k], [0.0], 2)\n"
+          "    return net.forces(np.stack((x1, x2)))[0]", "incorrect", "uses the reference"),
+    Plant("spring_force", "shortcut", "divides d by the rest length (right only near rest)",
+          SPRING_RIGHT.replace("d / length", "d / rest"), "incorrect",
+          "you divided d by the rest length L"),
+    Plant("spring_force", "misconception", "subtracts L from the vector d",
+          "def spring_force(x1, x2, k, rest):\n    return -k * (x1 - x2 - rest)", "incorrect",
+          "subtract L from the length"),
+    Plant("spring_force", "other", "sign error", SPRING_RIGHT.replace("return -k", "return k"),
+          "incorrect", "sign error"),
+    Plant("spring_force", "other", "not normalised",
+          SPRING_RIGHT.replace("* d / length", "* d"), "incorrect", "forgot to normalise"),
+    Plant("spring_force", "other", "rest length for the stretch",
+          SPRING_RIGHT.replace("(length - rest)", "rest"), "incorrect",
+          "used the rest length L instead of the stretch"),
+    Plant("spring_force", "other", "returns NaN",
+          "def spring_force(x1, x2, k, rest):\n    return np.full(3, np.nan)", "incorrect",
+          "returned NaN"),
+    Plant("damped_dt_max", "other", "right", DAMPED_RIGHT, "correct", ""),
+    Plant("damped_dt_max", "delegating", "lesson.damped_dt_limit",
+          "def damped_dt_max(k, m, c):\n    return lesson07.damped_dt_limit('symplectic_euler', k, m, c)",
+          "incorrect", "uses the reference"),
+    Plant("damped_dt_max", "delegating", "bisection on cl.integrate's verdict",
+          "def damped_dt_max(k, m, c):\n"
+          "    f = cl.systems.oscillator(np.sqrt(k / m), c / m)\n"
+          "    ok = lambda dt: cl.integrate(f, [1.0, 0.0], (0, 300 * dt), dt, 'symplectic_euler',"
+          " blowup_bound=1e3).stable\n"
+          "    return cl.stability.bisect_stable_dt(ok, 0.01, 5.0, 1e-9)", "incorrect",
+          "uses the reference"),
+    Plant("damped_dt_max", "shortcut", "bisection on its own step matrix (a search, not a formula)",
+          SEARCH, "incorrect", "searches for it by simulation"),
+    Plant("damped_dt_max", "shortcut", "small-damping approximation (2/ω)(1 - ζ)",
+          "def damped_dt_max(k, m, c):\n    w = np.sqrt(k / m)\n"
+          "    return 2 / w * (1 - c / m / (2 * w))", "incorrect", "small-damping approximation"),
+    Plant("damped_dt_max", "misconception", "the undamped limit 2/ω",
+          "def damped_dt_max(k, m, c):\n    return 2 * np.sqrt(m / k)", "incorrect",
+          "undamped limit 2/ω"),
+    Plant("damped_dt_max", "other", "c not divided by m",
+          "def damped_dt_max(k, m, c):\n    return 4 / (c + np.sqrt(c**2 + 4 * k / m))",
+          "incorrect", "forgot to divide c by m"),
+    Plant("damped_dt_max", "other", "the wrong root",
+          "def damped_dt_max(k, m, c):\n    g = c / m\n    return (g + np.sqrt(g**2 + 4 * k / m)) / (k / m)",
+          "incorrect", "wrong root"),
+    Plant("network_forces", "other", "right", NETWORK_RIGHT, "correct", ""),
+    Plant("network_forces", "delegating", "cl.springs.SpringNetwork",
+          "def network_forces(x, v, i, j, rest, k, c):\n"
+          "    return cl.springs.SpringNetwork(i, j, rest, k, c, len(x)).forces(x, v)",
+          "incorrect", "uses the reference"),
+    Plant("network_forces", "shortcut", "F[i] += f (breaks on repeated indices)",
+          NETWORK_RIGHT.replace("np.add.at(F, i, f)", "F[i] += f")
+          .replace("np.add.at(F, j, -f)", "F[j] -= f"),
+          "incorrect", "np.add.at"),
+    Plant("network_forces", "shortcut", "a loop over the springs",
+          """def network_forces(x, v, i, j, rest, k, c):
+    F = np.zeros_like(x)
+    for s in range(len(i)):
+        a, b = i[s], j[s]
+        d = x[a] - x[b]
+        u = d / np.linalg.norm(d)
+        f = -(k[s] * (np.linalg.norm(d) - rest[s]) + c[s] * (v[a] - v[b]) @ u) * u
+        F[a] += f
+        F[b] -= f
+    return F""", "incorrect", "loops over the springs"),
+    Plant("network_forces", "misconception", "damps the whole relative velocity",
+          NETWORK_RIGHT.replace(
+              "f = -(k * (length - rest) + c * np.einsum(\"md,md->m\", v[i] - v[j], u))[:, None] * u",
+              "f = -(k * (length - rest))[:, None] * u - c[:, None] * (v[i] - v[j])"),
+          "incorrect", "damp only the stretching rate"),
+    Plant("network_forces", "other", "leaves out the damping",
+          NETWORK_RIGHT.replace(" + c * np.einsum(\"md,md->m\", v[i] - v[j], u)", ""),
+          "incorrect", "left out the damping"),
+    Plant("network_forces", "other", "one end only",
+          NETWORK_RIGHT.replace("    np.add.at(F, j, -f)\n", ""), "incorrect",
+          "add f at i AND -f at j"),
+    Plant("network_forces", "other", "sign error",
+          NETWORK_RIGHT.replace("f = -(k", "f = (k"), "incorrect", "sign error"),
+]
 
 
-def test_check_network_forces(capsys):
-    check.network_forces(_network)
-    assert _status("network_forces") == "correct"
-    check.network_forces(lambda *a: _network(*a).astype(np.float32))
-    assert _status("network_forces") == "correct"
-    capsys.readouterr()
+@pytest.mark.parametrize("plant", PLANTS, ids=lambda p: f"{p.exercise}: {p.label}")
+def test_planted_answer(plant):
+    judge(check, plant)
 
-    def buffered(x, v, i, j, rest, k, c):
-        d = x[i] - x[j]
-        length = np.linalg.norm(d, axis=1)
-        u = d / length[:, None]
-        f = -(k * (length - rest) + c * np.einsum("md,md->m", v[i] - v[j], u))[:, None] * u
-        F = np.zeros_like(x)
-        F[i] += f
-        F[j] -= f
-        return F
 
-    def looped(x, v, i, j, rest, k, c):
-        F = np.zeros_like(x)
-        for s in range(len(i)):
-            a, b = i[s], j[s]
-            d = x[a] - x[b]
-            u = d / np.linalg.norm(d)
-            f = -(k[s] * (np.linalg.norm(d) - rest[s]) + c[s] * (v[a] - v[b]) @ u) * u
-            F[a] += f
-            F[b] -= f
-        return F
+def test_every_exercise_has_the_three_kinds_of_plants():
+    for exercise in ("spring_force", "damped_dt_max", "network_forces"):
+        kinds = {p.kind for p in PLANTS if p.exercise == exercise}
+        assert {"delegating", "shortcut", "misconception"} <= kinds, exercise
 
-    def unprojected(x, v, i, j, rest, k, c):
-        d = x[i] - x[j]
-        length = np.linalg.norm(d, axis=1)
-        f = -(k * (length - rest))[:, None] * d / length[:, None] - c[:, None] * (v[i] - v[j])
-        F = np.zeros_like(x)
-        np.add.at(F, i, f)
-        np.add.at(F, j, -f)
-        return F
 
-    def undamped(x, v, i, j, rest, k, c):
-        return _network(x, v, i, j, rest, k, 0.0 * c)
-
-    def one_end(x, v, i, j, rest, k, c):
-        F = _network(x, v, i, j, rest, k, c)
-        d = x[i] - x[j]
-        length = np.linalg.norm(d, axis=1)
-        u = d / length[:, None]
-        f = -(k * (length - rest) + c * np.einsum("md,md->m", v[i] - v[j], u))[:, None] * u
-        G = np.zeros_like(x)
-        np.add.at(G, i, f)
-        return G + 0 * F
-
-    for answer, hint in [(buffered, "np.add.at"), (looped, "loops over the springs"),
-                         (unprojected, "damp only the stretching rate"),
-                         (undamped, "left out the damping"), (one_end, "add f at i AND -f at j"),
-                         (lambda *a: -_network(*a), "sign error")]:
-        check.network_forces(answer)
-        assert _status("network_forces") == "incorrect"
-        assert hint in capsys.readouterr().out, hint
-
-    def borrowed(x, v, i, j, rest, k, c):
-        return cl.springs.SpringNetwork(i, j, rest, k, c, len(x)).forces(x, v)
-
-    borrowed.__module__ = "__main__"
-    check.network_forces(borrowed)
-    assert "uses the reference" in capsys.readouterr().out
-
-    def pending(*args):
+def test_checks_report_pending_and_correct(capsys):
+    def stub(*args):
         raise NotImplementedError()
 
-    check.network_forces(pending)
-    assert _status("network_forces") == "pending"
+    for name in ("spring_force", "damped_dt_max", "network_forces"):
+        getattr(check, name)(stub)
+        assert RESULTS[f"nb07.{name}"]["status"] == "pending"
+    check.spring_force(define(SPRING_RIGHT, "spring_force"))
+    assert RESULTS["nb07.spring_force"]["status"] == "correct"
+    out = capsys.readouterr().out
+    assert "momentum: F1 + F2 = 0" in out and "compressed to half its rest length" in out

@@ -1,7 +1,9 @@
 """Checks for notebook 07, springs and mass-spring systems.
 
-Every exercise names the course_lib function it must not call (``@exercise(reference=...)``,
-see :mod:`course_lib.check.policy`): an answer that calls it earns nothing.
+An answer may call no course_lib function (:mod:`course_lib.check.policy`); the step-limit
+exercise asks for a formula, so it also refuses ``scipy.integrate`` and a search by
+simulation written by hand (:func:`~course_lib.check._answers.call_analysis`). Hints name
+the slip the answer reproduces, or what the data that broke it show.
 """
 
 from __future__ import annotations
@@ -11,30 +13,38 @@ import numpy as np
 from .. import springs
 from ..lessons import nb07_spring_runs as lesson
 from . import Checker, exercise
+from ._answers import call_analysis, one_number
 from .tolerance import blown_up, precision_rtol
 
 _RNG_SEED = 707
 
 
 def _cases():
+    """(what, x1, x2, k, rest): random springs, one compressed, one stretched to 4 times its
+    rest length, one along an axis."""
     rng = np.random.default_rng(_RNG_SEED)
-    for _ in range(4):
+    for n in range(3):
         x1, x2 = rng.normal(size=3), rng.normal(size=3)
-        yield x1, x2, float(rng.uniform(5.0, 50.0)), float(rng.uniform(0.3, 1.5))
+        yield f"case {n}: force on particle 1", x1, x2, float(rng.uniform(5.0, 50.0)), \
+            float(rng.uniform(0.3, 1.5))
+    yield ("compressed to half its rest length", np.array([0.3, -0.2, 0.5]),
+           np.array([0.1, 0.4, 0.2]), 20.0, 2.0 * np.linalg.norm([0.2, -0.6, 0.3]))
+    yield ("stretched to 4 times its rest length", np.array([1.0, 2.0, -1.0]),
+           np.array([-1.0, 0.5, 1.0]), 7.0, 0.25 * np.linalg.norm([2.0, 1.5, -2.0]))
 
 
-@exercise(reference=(springs.spring_force_pair, springs.SpringNetwork))
+@exercise(allow=())
 def spring_force(ck: Checker, func) -> None:
     """``func(x1, x2, k, rest)``: Hooke force on particle 1 of a spring in 3D."""
-    for n, (x1, x2, k, rest) in enumerate(_cases()):
-        expected = springs.spring_force_pair(x1, x2, k, rest)
+    for what, x1, x2, k, rest in _cases():
         d = x1 - x2
         length = np.linalg.norm(d)
         u = d / length
+        expected = -k * (length - rest) * u
         got = func(x1.copy(), x2.copy(), k, rest)
-        if blown_up(ck, got, f"case {n}: force on particle 1", run=False):
+        if blown_up(ck, got, what, run=False):
             continue
-        ck.close(got, expected, f"case {n}: force on particle 1", rtol=precision_rtol(got, 1e-9),
+        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9),
                  atol=1e-12, mistakes={
             "sign error: the force on particle 1 points from x1 towards x2 when the spring is "
             "stretched, F1 = -k (|d| - L) d/|d| with d = x1 - x2": -expected,
@@ -44,9 +54,11 @@ def spring_force(ck: Checker, func) -> None:
             "used the length |d| instead of the stretch |d| - L": -k * length * u,
             "the stretch is |d| - L, a scalar: subtract L from the length, not from the "
             "vector d": -k * (d - rest),
-        }, hint="d = x1 - x2; F1 = -k (|d| - L) d / |d|")
+            "the direction is the unit vector d / |d|: you divided d by the rest length L":
+                -k * (length - rest) * d / rest,
+        })
     # Force = -gradient of the spring energy, by central finite differences.
-    x1, x2, k, rest = next(_cases())
+    _, x1, x2, k, rest = next(_cases())
 
     def energy(p):
         return 0.5 * k * (np.linalg.norm(p - x2) - rest) ** 2
@@ -67,16 +79,25 @@ def spring_force(ck: Checker, func) -> None:
              hint="the force must act along the line x1 - x2")
 
 
-@exercise(reference=(lesson.symplectic_euler_limit, lesson.damped_dt_limit))
+#: Lines of Python a formula needs at most (a search by simulation runs thousands).
+FORMULA_LINES = 200
+
+
+@exercise(allow=(), forbid=("scipy.integrate",))
 def damped_dt_max(ck: Checker, func) -> None:
     """``func(k, m, c)``: largest stable symplectic Euler step of a damped spring."""
     for k, m, c in [(10.0, 1.0, 0.0), (10.0, 1.0, 2.0), (16.0, 1.0, 8.0), (50.0, 0.2, 0.3),
                     (4.0, 9.0, 40.0)]:
         measured = lesson.damped_dt_limit("symplectic_euler", k, m, c)
         omega, gamma = np.sqrt(k / m), c / m
-        got = func(k, m, c)
+        zeta = gamma / (2 * omega)
         what = f"k = {k:g} N/m, m = {m:g} kg, c = {c:g} N s/m (measured {measured:.6f} s)"
-        if blown_up(ck, got, what, run=False):
+        ok, got = call_analysis(ck, what, FORMULA_LINES, (
+            "the exercise asks for the limit from the stability condition, a formula: your "
+            "function searches for it by simulation"), func, k, m, c)
+        if not ok or blown_up(ck, got, what, run=False):
+            continue
+        if one_number(ck, what, got, "a step in s") is None:
             continue
         ck.close(got, measured, what, rtol=precision_rtol(got, 1e-9), mistakes={
                      "that is the undamped limit 2/ω: damping moves it (ω² dt² + 2 (c/m) dt < 4)":
@@ -89,7 +110,9 @@ def damped_dt_max(ck: Checker, func) -> None:
                      "is 2√(γ² + 4ω²)": (-gamma + np.sqrt(gamma**2 + 16 * omega**2)) / omega**2,
                      "only the damping part: 2/γ is the limit for damping alone":
                          2.0 / gamma if gamma else np.inf,
-                 }, hint="solve ω² dt² + 2 γ dt - 4 = 0 (γ = c/m) for its positive root")
+                     "(2/ω)(1 - ζ) is the small-damping approximation, wrong at ζ = 1 and "
+                     "beyond: solve the quadratic exactly": 2.0 / omega * (1.0 - zeta),
+                 })
 
 
 class _Indices(np.ndarray):
@@ -116,7 +139,7 @@ def _network_case(seed: int, n: int, m: int, dim: int = 3):
     return x, v, i, j, rng.uniform(0.5, 1.5, m), rng.uniform(5.0, 50.0, m), rng.uniform(0.0, 2.0, m)
 
 
-@exercise(reference=(springs.SpringNetwork, springs.spring_force_pair))
+@exercise(allow=())
 def network_forces(ck: Checker, func) -> None:
     """``func(x, v, i, j, rest, k, c)``: net force of a damped spring network, vectorized."""
     for what, (x, v, i, j, rest, k, c) in [
@@ -156,4 +179,4 @@ def network_forces(ck: Checker, func) -> None:
             "damp only the stretching rate: c ((v_i - v_j)·u) u, not c (v_i - v_j)": unprojected,
             "you left out the damping term c ((v_i - v_j)·u) u": no_damping,
             "sign error: a stretched spring pulls i towards j": -expected,
-        }, hint="per spring: f = -[k (ℓ - L) + c (v_i - v_j)·u] u on i, -f on j")
+        })
