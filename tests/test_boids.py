@@ -42,6 +42,7 @@ def test_three_boids_by_hand():
     assert np.allclose(ali[2], [1.0, 1.0]) and np.allclose(coh[2], [1.0, -1.0])
 
 
+@pytest.mark.roundoff
 @pytest.mark.parametrize("box", [None, 10.0])
 @pytest.mark.parametrize("view", [2 * np.pi, 1.5 * np.pi, np.radians(120.0)])
 def test_all_pairs_and_tree_find_the_same_neighbours(box, view):
@@ -211,6 +212,7 @@ def flocks(draw):
     return x, v, B.Rules(radius=radius, view_angle=view, box=box)
 
 
+@pytest.mark.roundoff
 @settings(max_examples=200, deadline=None)
 @given(flocks())
 def test_both_searches_agree_and_the_rules_stay_finite(case):

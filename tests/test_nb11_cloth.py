@@ -29,6 +29,7 @@ def test_the_cloth(hang):
     assert hang.pinned.tolist() == [0, 11]
 
 
+@pytest.mark.roundoff
 def test_explicit_limit_predicted_and_measured(hang):
     omega, limit = nb11.frequency_and_limit(hang)
     assert f"{omega:.1f}" == "1366.4" and f"{limit * 1e3:.4f}" == "1.4637"
@@ -39,6 +40,7 @@ def test_explicit_limit_predicted_and_measured(hang):
     assert 1 / (30 * 23) < limit < 1 / (30 * 22)
 
 
+@pytest.mark.roundoff
 def test_explicit_runs(hang):
     ok = C.simulate(hang, "symplectic_euler", frames=60, substeps=24)
     bad = C.simulate(hang, "symplectic_euler", frames=60, substeps=20)
@@ -52,6 +54,7 @@ def test_explicit_runs(hang):
     assert C.energies(hang, ok.x[60], ok.v[60])["kinetic"] > 0.1
 
 
+@pytest.mark.roundoff
 def test_jacobian_check(hang):
     coarse, scale, _, _ = nb11.jacobian_check(hang, h=1e-5)
     err, scale, asym_x, asym_v = nb11.jacobian_check(hang, h=1e-6)
@@ -66,6 +69,7 @@ def implicit_30(hang):
     return C.simulate(hang, "baraff_witkin", frames=60)
 
 
+@pytest.mark.roundoff
 def test_condition_number_and_cg_iterations(hang, implicit_30):
     _, limit = nb11.frequency_and_limit(hang)
     assert f"{(1 / 30) / limit:.1f}" == "22.8"
@@ -90,6 +94,7 @@ def study():
     return nb11.large_steps((1, 10, 100), frames=20)
 
 
+@pytest.mark.roundoff
 def test_when_large_steps_pay(study):
     assert [r["substeps"] for r in study] == [37, 117, 369]
     assert [f"{r['limit'] * 1e3:.3f}" for r in study] == ["1.005", "0.318", "0.101"]
@@ -119,6 +124,7 @@ def rest(hang, implicit_30):
     return nb11.rest_state(hang, implicit_30.x[-1])
 
 
+@pytest.mark.roundoff
 def test_numerical_damping_numbers(hang, implicit_30, rest):
     assert np.allclose(nb11.damping_ratios(k=100.0, m=1.0, h=0.1), 0.5, rtol=1e-12)
     per_step = 1 / (1 + 0.15**2)
@@ -148,6 +154,7 @@ def test_numerical_damping_numbers(hang, implicit_30, rest):
         assert potential.min() >= e_rest - 1e-12
 
 
+@pytest.mark.roundoff
 def test_drape_respects_the_sphere_and_the_ground():
     c, run = nb11.drape()
     assert run.stable and c.n == 400

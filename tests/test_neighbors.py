@@ -57,6 +57,7 @@ def configurations(draw):
     return x, radius, box
 
 
+@pytest.mark.roundoff
 @settings(max_examples=300, deadline=None)
 @given(configurations())
 def test_the_tree_and_all_pairs_agree_on_every_configuration(case):
