@@ -613,3 +613,19 @@ def test_spiral_player(spiral_view_module):
     assert len(spiral_view_module.SPIRAL_DTS) == 9              # "nine steps from 0.01 s to 1 s"
     assert min(spiral_view_module.SPIRAL_DTS) == 0.01 and max(spiral_view_module.SPIRAL_DTS) == 1.0
     assert player.nbytes < 300_000
+
+
+def test_the_budget_reads_the_same_in_the_grader():
+    """The grader's recorder hands the check a copy of what the answer raised, an Exception
+    of the same name: the check still reads it as the budget overrun it was."""
+    copy = type("TooManyLines", (Exception,), {})
+
+    def replayed(r0, dt, n):
+        if n > 1000:
+            raise copy("your function ran more than 2000 lines of Python here")
+        return r0 * (1 + dt * dt) ** (n / 2)
+
+    result = evaluate(check.radius_after, replayed)
+    text = "\n".join(result["failed_cases"])
+    assert result["status"] == "incorrect" and "analysis of Section 3" in text
+    assert "raised" not in text
