@@ -178,8 +178,9 @@ def _limit_hint(probe: Probe, A, method: str, dt: float, limit: float):
                 "dy/dt = f(t, y) from y0")
     if dt > limit:  # a run above the limit passed as stable: which one, and why?
         step, n, size = min(runs, key=lambda r: abs(r[0] / dt - 1))
-        if abs(step / dt - 1) > 0.05:
-            return "your answer is not the step of any run your search made"
+        if abs(step / dt - 1) > 0.05:  # no run near the answer to read (e.g. not recorded)
+            return ("a run just above the limit grows slowly: check how many steps your runs "
+                    "take, and that your blow-up bound is not far above a stable run's size")
         grew = _growth(A, method, step) ** n
         if size > 1e6:
             return (f"your run at dt = {step:.4g} s grew {size:.1e}-fold and still counted as "
