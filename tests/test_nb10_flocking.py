@@ -402,3 +402,12 @@ def test_check_neighbour_pairs_escalates_and_is_pending_when_blank():
         raise NotImplementedError()
 
     assert judged(check.neighbour_pairs, pending)[0] == "pending"
+
+
+def test_check_neighbour_pairs_names_the_right_mistake():
+    """Pairs at exactly the radius are lost both by a strict < and by a search of one cell
+    only; the hint must name the one the evidence of every case points to."""
+    same_cell = notebook_answer(_grid_source(offsets=(0,)), "neighbour_pairs")
+    strict = notebook_answer(_grid_source(compare="<"), "neighbour_pairs")
+    assert "exactly `radius` apart" not in judged(check.neighbour_pairs, same_cell)[1]
+    assert "neighbouring cells are missing" not in judged(check.neighbour_pairs, strict)[1]

@@ -242,9 +242,9 @@ LIMIT_PLANTED = {
         "incorrect", "uses the reference: your function calls course_lib.springs"),
     "no masses": (lambda K, m: 2 / np.sqrt(np.linalg.eigvalsh(K).max()), "incorrect", "include the masses"),
     "one mass": (lambda K, m: 2 / np.sqrt(np.linalg.eigvalsh(K).max() / m.mean()), "incorrect", "one mass"),
-    "no square root": (lambda K, m: _limit(K, m, root=False), "incorrect", "square root"),
-    "1/ω": (lambda K, m: _limit(K, m, two=1.0), "incorrect", "not 1/ω_max"),
-    "np.tile": (lambda K, m: _limit(K, m, layout=np.tile), "incorrect", "np.repeat"),
+    "no square root": (lambda K, m: _limit(K, m, root=False), "incorrect", "not ω"),
+    "1/ω": (lambda K, m: _limit(K, m, two=1.0), "incorrect", "the stability condition"),
+    "np.tile": (lambda K, m: _limit(K, m, layout=np.tile), "incorrect", "three rows in a row"),
 }
 
 

@@ -91,12 +91,16 @@ def explicit_limit(ck: Checker, func) -> None:
             ("include the masses: the frequencies solve K φ = ω² M φ",
              "include the masses: use the eigenvalues of M^(-1/2) K M^(-1/2)"):
                 2.0 / np.sqrt(np.linalg.eigvalsh(K).max()),
-            "with unequal masses one mass will not do: scale each row and column of K by "
-            "1/√m of its own particle": 2.0 / np.sqrt(np.linalg.eigvalsh(K).max() / m.mean()),
-            "the eigenvalues are ω², so take a square root: dt_max = 2/√λ_max": 2.0 / lam.max(),
-            "symplectic Euler is stable for ω dt < 2: dt_max = 2/ω_max, not 1/ω_max":
+            ("with unequal masses one mass will not do", "with unequal masses one mass will "
+             "not do: scale each row and column of K by 1/√m of its own particle"):
+                2.0 / np.sqrt(np.linalg.eigvalsh(K).max() / m.mean()),
+            ("the eigenvalues are ω², not ω", "take a square root: dt_max = 2/√λ_max"):
+                2.0 / lam.max(),
+            ("check the stability condition of symplectic Euler (notebook 07)",
+             "symplectic Euler is stable for ω dt < 2: dt_max = 2/ω_max, not 1/ω_max"):
                 1.0 / np.sqrt(lam.max()),
-            "each particle owns three rows in a row (x, y, z): np.repeat(mass, 3), not np.tile":
+            ("each particle owns three rows in a row (x, y, z)",
+             "each particle owns three rows in a row (x, y, z): np.repeat(mass, 3), not np.tile"):
                 2.0 / np.sqrt(np.linalg.eigvalsh(K / np.sqrt(np.outer(tiled, tiled))).max()),
         }
         got = func(K.copy(), m.copy())
