@@ -105,6 +105,10 @@ def test_forbid_reaches_outside_the_library_in_python_and_in_c():
                            "    return si.quad(lambda x: x, 0, 1)[0]", "area")
     by_hand = answer("def area():\n    x = np.linspace(0, 1, 3)\n    return np.trapezoid(x, x)", "area")
     assert "scipy.integrate" in evaluate(area, simulated)["reference"]
+    # the message names what was refused instead of saying SciPy is fine
+    assert "this exercise refuses scipy.integrate" in evaluate(area, simulated)["reference"]
+    plain = evaluate(nb02.forward_euler_step, answer(DELEGATING["by name"]))["reference"]
+    assert "NumPy and SciPy are fine" in plain
     assert "scipy.integrate" in evaluate(area, by_quadrature)["reference"]
     assert evaluate(area, by_hand)["status"] == "correct"
 

@@ -213,9 +213,12 @@ def answer_is_reference(answer: object, check: Callable) -> str | None:
 def message(found: list[str], itself: bool = False) -> str:
     """The verdict line for an answer that uses the library (the grader matches its start)."""
     what = ("your answer is the library's own " if itself else "your function calls ") + ", ".join(found[:3])
+    outside = [f for f in found if not f.startswith(("course_lib", "a function of course_lib"))]
+    fine = ("anything the check passes to your function is fine, but this exercise refuses "
+            + ", ".join(outside[:3])) if outside else (
+        "NumPy and SciPy are fine, and so is anything the check passes to your function")
     return (f"uses the reference: {what}. This exercise asks you to write that computation "
-            "yourself (NumPy and SciPy are fine, and so is anything the check passes to your "
-            "function); an answer that calls the library's version earns no points")
+            f"yourself ({fine}); an answer that calls the library's version earns no points")
 
 
 def _defaults(answer: object) -> list:
