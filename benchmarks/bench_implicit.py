@@ -1,6 +1,11 @@
 """Implicit cloth: a Baraff–Witkin step against one explicit step of the same cloth, how
 its cost grows with the cloth, and ``integrate``'s implicit methods with a sparse ``jac``.
 
+The three "≤ 10× one explicit step" targets of issue 8 measured the wrong thing (per
+step, not per simulated second) and are retired: these rows are informational, and the
+targets live in :mod:`benchmarks.bench_largestep` (cost per simulated second against
+symplectic Euler at its measured limit, strain and energy).
+
 The cloth is the one of the explicit benchmark (spacing 2 cm, 1 g particles, damped
 springs) hanging from its two top corners under gravity. The implicit step is
 :data:`FACTOR` times the explicit stability limit ``2 / ω_max``; CG stops at relative
@@ -64,8 +69,8 @@ def run(quick: bool = False) -> list[Row]:
         times.append(t.median["implicit"])
     ratio = t.ratio("implicit", "explicit")
     rows.append(Row(f"Baraff–Witkin implicit step, cloth {sides[-1]}×{sides[-1]}, dt = {FACTOR:g}× "
-                    f"explicit limit, CG rtol {RTOL:g}", t.median["implicit"],
-                    "≤ 10× one explicit step", ratio <= 10.0, None, None,
+                    f"explicit limit, CG rtol {RTOL:g} (informational; issue 8's target retired)",
+                    t.median["implicit"], "–", None, None, None,
                     f"{ratio:.1f}× explicit step ({t.median['explicit'] * 1e6:.0f} µs), "
                     f"{its:.0f} CG iterations"))
     rows.append(Row("same, cost per simulated second against symplectic Euler at its limit "
@@ -104,14 +109,14 @@ def integrate_implicit(side: int, dt: float, quick: bool) -> list[Row]:
             traj = implicit()
         except Exception as exc:  # reported in the table
             rows.append(Row(f"integrate {method}, cloth {side}×{side}, sparse jac",
-                            None, "≤ 10× one explicit step", False,
+                            None, "–", None,
                             note=f"failed: {type(exc).__name__}: {exc}"[:120]))
             continue
         t = interleaved({"implicit": implicit, "explicit": explicit}, rounds=1 if quick else 3,
                         inner={"implicit": 1, "explicit": 10}, warmup=False)
         ratio = t.ratio("implicit", "explicit")
         rows.append(Row(f"integrate {method}, cloth {side}×{side}, sparse analytic jac, "
-                        f"dt = {FACTOR:g}× explicit limit", t.median["implicit"],
-                        "≤ 10× one explicit step", ratio <= 10.0 and traj.stable, None, None,
+                        f"dt = {FACTOR:g}× explicit limit (informational)", t.median["implicit"],
+                        "–", None if traj.stable else False, None, None,
                         f"{ratio:.0f}× explicit step, nfev {traj.nfev}"))
     return rows

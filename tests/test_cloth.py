@@ -190,27 +190,43 @@ def peak_struct_strain(c, run):
     return float(c.network.select("struct").strain(run.x[1:]).max())
 
 
-@pytest.fixture(scope="module")
-def converged_explicit():
-    """Peak structural strain over 1 s of symplectic Euler at 0.9 x its measured damped
-    limit, 32² sheet, stiffness x100 and x1000, damping ratio 0.1 (the bench's scene)."""
-    out = {}
-    for factor in (100, 1000):
-        c = C.sheet(n=32, k_struct=300.0 * factor, damping_ratio=0.1)
-        substeps = int(np.ceil(1 / (60 * 0.9 * C.explicit_dt_max(c))))
-        run = C.simulate(c, "symplectic_euler", frames=60, fps=60, substeps=substeps)
-        assert run.stable
-        out[factor] = (c, peak_struct_strain(c, run))
-    return out
+def test_fast_mass_spring_defaults_meet_the_fidelity_target():
+    """Issue 19: with one call per 1/60 s frame and the defaults, peak structural strain over
+    1 s within 0.5 percentage points of converged symplectic Euler, 32², stiffness ×100 and
+    ×1000 (springs damped at 10 % of critical, the bench's scene)."""
+    runs = {f: C.sheet(n=32, k_struct=300.0 * f, damping_ratio=0.1) for f in (100, 1000)}
+    c = runs[100]
+    # The reference at ×100: symplectic Euler at 0.9 × its measured (damped) limit.
+    substeps = int(np.ceil(1 / (60 * 0.9 * C.explicit_dt_max(c))))
+    reference = C.simulate(c, "symplectic_euler", frames=60, fps=60, substeps=substeps)
+    assert reference.stable
+    ref_100 = peak_struct_strain(c, reference)
+    peak = {f: peak_struct_strain(cf, C.simulate(cf, "fast_mass_spring", frames=60, fps=60))
+            for f, cf in runs.items()}
+    assert abs(peak[100] - ref_100) <= 0.005
+    # At ×1000 the reference costs 94,000 explicit steps (make bench runs it: 0.075 %). A
+    # stiffer cloth stretches less, so 0 <= reference(×1000) <= reference(×100); a peak p
+    # within 0.5 pp of every value in that interval meets the target whatever it is.
+    assert ref_100 - 0.005 <= peak[1000] <= 0.005
 
 
-@pytest.mark.parametrize("factor", [100, 1000])
-def test_fast_mass_spring_defaults_meet_the_fidelity_target(converged_explicit, factor):
-    # Issue 19: peak structural strain over 1 s within 0.5 percentage points of converged
-    # symplectic Euler, one call per 1/60 s frame with the defaults.
-    c, reference = converged_explicit[factor]
-    run = C.simulate(c, "fast_mass_spring", frames=60, fps=60)
-    assert run.stable
-    assert abs(peak_struct_strain(c, run) - reference) <= 0.005
-    # and the reference is a stiff cloth's: a fraction of a percent
-    assert reference < 0.004
+def test_self_contact_pushes_close_pairs_to_the_thickness_and_keeps_momentum():
+    # Two particles 1 cm apart, closing at 2 m/s, masses 1 and 3: pushed apart to 4 cm in
+    # inverse proportion to their masses; the closing velocity is removed, momentum kept.
+    x = np.array([[0.0, 0.0, 0.0], [0.01, 0.0, 0.0], [1.0, 1.0, 1.0]])
+    v = np.array([[1.0, 0.5, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 0.3]])
+    mass = np.array([1.0, 3.0, 2.0])
+    out = collisions.self_contact(0.04, mass=mass, iterations=1)(0.0, np.stack((x, v)))
+    assert np.linalg.norm(out[0, 1] - out[0, 0]) == pytest.approx(0.04, rel=1e-12)
+    assert (x[0, 0] - out[0, 0, 0]) == pytest.approx(3 * (out[0, 1, 0] - x[1, 0]), rel=1e-12)
+    assert out[1, 1, 0] - out[1, 0, 0] == pytest.approx(0.0, abs=1e-14)    # no longer closing
+    assert np.allclose(mass @ out[1], mass @ v, rtol=0, atol=1e-14)
+    assert np.array_equal(out[:, 2], np.stack((x, v))[:, 2])             # far away: untouched
+    assert np.allclose(out[1, :, 1:], v[:, 1:])                           # sideways motion kept
+    # separating pairs keep their velocities; only positions are corrected
+    apart = collisions.self_contact(0.04)(0.0, np.stack((x, -v)))
+    assert np.array_equal(apart[1], -v)
+    with pytest.raises(ValueError, match="thickness"):
+        collisions.self_contact(0.0)
+    with pytest.raises(ValueError, match="y must"):
+        collisions.self_contact(0.1)(0.0, x)

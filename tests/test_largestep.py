@@ -63,6 +63,7 @@ def deformed():
     return net, mass, pins, x, v
 
 
+@pytest.mark.roundoff
 @pytest.mark.parametrize("memory", [0, 5])
 def test_objective_falls_at_every_iteration(deformed, memory):
     net, mass, pins, x, v = deformed
@@ -194,6 +195,7 @@ def settle(solver, x, steps=1500, h=0.01, drag=0.98):
     return x
 
 
+@pytest.mark.roundoff
 def test_xpbd_stiffness_does_not_depend_on_iterations_and_pbd_does():
     x0, net, m = hanging_chain()
     n, g = len(x0), 9.81

@@ -17,7 +17,7 @@ from .base import SpringSolver
 from .constraints import ColouredSprings, independent_sets
 from .local_global import FactorCache, FastMassSpring, laplacian
 from .strain_limit import StrainLimiter
-from .xpbd import PBD, XPBD
+from .xpbd import PBD, XPBD, delta_lambda
 
 __all__ = ["PBD", "XPBD", "ColouredSprings", "FactorCache", "FastMassSpring", "SpringSolver",
-           "StrainLimiter", "independent_sets", "laplacian"]
+           "StrainLimiter", "delta_lambda", "independent_sets", "laplacian"]

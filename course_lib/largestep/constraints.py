@@ -85,9 +85,10 @@ class ColouredSprings:
         for members in independent_sets(network.i[springs], network.j[springs], network.n_particles):
             s = springs[members]
             i, j = network.i[s], network.j[s]
-            self.sets.append({"s": s, "i": i, "j": j, "rest": network.rest[s], "k": network.k[s],
-                              "c": network.c[s], "w": w[s],
-                              "wi": inverse_mass[i][:, None], "wj": inverse_mass[j][:, None]})
+            self.sets.append({"s": s, "i": i, "j": j, "ends": np.concatenate((i, j)),
+                              "rest": network.rest[s], "k": network.k[s], "c": network.c[s],
+                              "w": w[s], "wi": inverse_mass[i][:, None],
+                              "wj": inverse_mass[j][:, None]})
 
     def sweep(self, p: np.ndarray, rule: Callable) -> np.ndarray:
         """One Gauss–Seidel sweep over the sets, moving ``p`` (N, d) in place.
@@ -99,12 +100,14 @@ class ColouredSprings:
         spring; the ends then move by ``+Δλ u/m_i`` and ``-Δλ u/m_j``. Returns ``p``.
         """
         for q in self.sets:
-            i, j = q["i"], q["j"]
-            d = p[i] - p[j]
+            ends = p[q["ends"]]                  # one gather: the i ends, then the j ends
+            m = q["s"].size
+            d = ends[:m] - ends[m:]
             length = np.sqrt(np.einsum("sd,sd->s", d, d))
             inv = np.divide(1.0, length, out=np.zeros_like(length), where=length > 0.0)
             u = d * inv[:, None]
             step = u * rule(q, length, u, d)[:, None]
-            p[i] += q["wi"] * step
-            p[j] -= q["wj"] * step
+            ends[:m] += q["wi"] * step
+            ends[m:] -= q["wj"] * step
+            p[q["ends"]] = ends                  # no particle twice in a set: one scatter
         return p

@@ -38,6 +38,19 @@ from .base import SpringSolver
 from .constraints import ColouredSprings
 
 
+def delta_lambda(C, lam, w, compliance, h: float, gamma=0.0, rate=0.0) -> np.ndarray:
+    """XPBD's multiplier update (kg m) for constraints ``C`` (m) with multipliers ``lam``.
+
+    ``Δλ = (-C - α̃ λ - γ rate) / ((1 + γ) w + α̃)`` with ``α̃ = compliance/h²``; ``w`` is
+    the sum of the inverse masses the constraint moves (1/kg), ``compliance`` ``1/k`` (m/N),
+    ``h`` the (small) step (s), ``gamma`` and ``rate`` the damping term (``γ = α c/h`` and
+    ``u·(d - d₀)`` for a spring). Arrays broadcast.
+    """
+    alpha = np.asarray(compliance, dtype=float) / (h * h)
+    return (-np.asarray(C, dtype=float) - alpha * lam - gamma * np.asarray(rate, dtype=float)) / (
+        (1.0 + np.asarray(gamma, dtype=float)) * w + alpha)
+
+
 @dataclass
 class SweepInfo:
     """What one step did: small steps taken and constraint sweeps in all."""
@@ -77,20 +90,20 @@ class XPBD(SpringSolver):
         self.info: SweepInfo | None = None
 
     def _begin(self, h: float) -> None:
-        """Per small step, before the sweeps: reset the multipliers, set ``α̃`` and ``γ``."""
+        """Per small step, before the sweeps: reset the multipliers, set ``α`` and ``γ``."""
+        self._h = h
         for q in self.springs.sets:
             q["lambda"] = np.zeros(q["s"].size)
-            q["alpha"] = 1.0 / (q["k"] * h * h)
+            q["compliance"] = 1.0 / q["k"]
             q["gamma"] = q["c"] / (q["k"] * h) if self.damping else np.zeros(q["s"].size)
 
     def _rule(self, q, length, u, d):
-        """``Δλ`` of every spring of one set (see the module docstring)."""
-        alpha, gamma, lam = q["alpha"], q["gamma"], q["lambda"]
-        numerator = q["rest"] - length - alpha * lam
-        if self.damping and q["c"].any():
-            numerator -= gamma * np.einsum("sd,sd->s", u, d - q["d0"])
-        delta = numerator / ((1.0 + gamma) * q["w"] + alpha)
-        lam += delta
+        """``Δλ`` of every spring of one set (:func:`delta_lambda`)."""
+        damped = self.damping and q["c"].any()
+        rate = np.einsum("sd,sd->s", u, d - q["d0"]) if damped else 0.0
+        delta = delta_lambda(length - q["rest"], q["lambda"], q["w"], q["compliance"], self._h,
+                             q["gamma"], rate)
+        q["lambda"] += delta
         return delta
 
     def step(self, x, v, dt: float, t: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -107,7 +120,8 @@ class XPBD(SpringSolver):
             p = x + h * v + (h * h) * push
             self._begin(h)
             for q in self.springs.sets:
-                q["d0"] = x[q["i"]] - x[q["j"]]
+                ends = x[q["ends"]]
+                q["d0"] = ends[:q["s"].size] - ends[q["s"].size:]
             for _ in range(self.iterations):
                 self.springs.sweep(p, self._rule)
             v = (p - x) / h

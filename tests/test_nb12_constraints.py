@@ -1,0 +1,224 @@
+"""Every number quoted in solutions/12_constraints_and_large_steps.ipynb, its widget, its
+showcase clip, and its exercise checks with planted answers."""
+
+import numpy as np
+import pytest
+
+import course_lib as cl
+from course_lib import cloth
+from course_lib.check import RESULTS, evaluate
+from course_lib.check import nb12 as check
+from course_lib.lessons import nb12_constraints as lesson
+from course_lib.lessons import nb12_drawings as drawings
+
+
+@pytest.fixture(scope="module")
+def study():
+    return lesson.stiffness_study()
+
+
+@pytest.mark.roundoff
+def test_pbd_stiffness_grows_with_iterations_and_xpbd_reaches_k(study):
+    assert study["iterations"] == [1, 2, 4, 8, 16]
+    pbd, xpbd = study["pbd"], study["xpbd"]
+    assert np.all(np.diff(pbd) > 0)                                  # stiffer with iterations
+    assert f"{pbd[0]:.0f}" == "43" and f"{pbd[-1]:,.0f}" == "1,025"
+    assert round(pbd[-1] / pbd[0]) == 24
+    # XPBD converges to the springs' k (the static sag of implicit Euler's fixed point) ...
+    assert abs(xpbd[3] - 50.0) < 1e-3 and abs(xpbd[4] - 50.0) < 1e-3
+    # ... and unconverged it is softer
+    assert f"{xpbd[0]:.0f}" == "37" and f"{xpbd[1]:.1f}" == "47.5" and xpbd[0] < xpbd[1] < 50.0
+
+
+@pytest.fixture(scope="module")
+def conv():
+    return lesson.convergence()
+
+
+@pytest.mark.roundoff
+def test_one_step_objective_falls_and_uses_one_factorization(conv):
+    gap0 = conv["local/global"][0] - conv["minimum"]
+    for name in ("local/global", "L-BFGS"):
+        g = conv[name]
+        assert g.size == 41 and np.all(np.diff(g) < 0) and g[-1] >= conv["minimum"]
+        assert conv[f"{name} factorizations"] == 1
+    ratio = (conv["local/global"][10] - conv["minimum"]) / (conv["L-BFGS"][10] - conv["minimum"])
+    assert f"{ratio:.1f}" == "2.4"
+    # the first iterations remove most of the gap
+    assert conv["L-BFGS"][3] - conv["minimum"] < 0.02 * gap0
+
+
+def test_fast_mass_spring_damps_like_backward_euler():
+    # ω h = 1 for k = 100 N/m, m = 1 kg, h = 0.1 s: 1/(1 + ω²h²) = 1/2 per step
+    assert np.allclose(lesson.damping_ratios(100.0, 1.0, 0.1), 0.5, rtol=1e-12)
+    assert np.allclose(lesson.damping_ratios(400.0, 1.0, 0.1, steps=3), 1 / 5, rtol=1e-12)
+
+
+@pytest.fixture(scope="module")
+def rows():
+    return {(r["factor"], r["method"]): r for r in lesson.comparison()}
+
+
+@pytest.mark.roundoff
+def test_comparison_table(rows):
+    assert all(r["stable"] for r in rows.values())
+    se = {f: rows[f, "symplectic_euler"] for f in lesson.FACTORS}
+    bw = {f: rows[f, "baraff_witkin"] for f in lesson.FACTORS}
+    fms = {f: rows[f, "fast_mass_spring"] for f in lesson.FACTORS}
+    xpbd = {f: rows[f, "xpbd"] for f in lesson.FACTORS}
+    # explicit work grows like √k: ×1000 needs ~√1000 (31.6) times the steps of ×1
+    assert round(se[1000]["work"] / se[1]["work"]) == 31
+    # Baraff–Witkin stretches 7 and 20 times more than the reference
+    assert round(bw[100]["peak"] / se[100]["peak"]) == 7
+    assert round(bw[1000]["peak"] / se[1000]["peak"]) == 20
+    # ... and does less work than symplectic Euler only at ×1000
+    assert bw[1]["work"] > se[1]["work"] and bw[100]["work"] > se[100]["work"]
+    assert bw[1000]["work"] < se[1000]["work"]
+    # fast mass-springs: 20 iterations per frame everywhere, 29 times less work at ×1000,
+    # stretch within a few tenths of a percentage point
+    assert all(fms[f]["work"] == 20 * 60 for f in lesson.FACTORS)
+    assert round(se[1000]["work"] / fms[1000]["work"]) == 29
+    assert all(abs(fms[f]["peak"] - se[f]["peak"]) < 0.003 for f in (100, 1000))
+    # XPBD: 30 small steps of one sweep, about 1 % of stretch, energy rising
+    assert all(xpbd[f]["work"] == 30 * 60 for f in lesson.FACTORS)
+    assert all(0.009 < xpbd[f]["peak"] < 0.012 and xpbd[f]["energy"] > 0 for f in (100, 1000))
+    # implicit methods lose energy; the reference keeps it (but for the springs' damping)
+    for f in lesson.FACTORS:
+        assert se[f]["energy"] < 0 and abs(se[f]["energy"]) < 0.2 * abs(fms[f]["energy"])
+        assert abs(se[f]["energy"]) < 0.1 * abs(bw[f]["energy"])
+
+
+@pytest.mark.roundoff
+def test_strain_limit_brings_baraff_witkin_to_the_bound(rows):
+    limits = lesson.strain_limit_study(list(rows.values()))
+    assert limits["without"] > 0.008 and limits["explicit"] < 0.002
+    # Gauss–Seidel sweeps leave a little of the excess: within 1 % of the bound
+    assert limits["limit"] <= limits["with"] < 1.01 * limits["limit"]
+
+
+def test_drape_keeps_out_of_the_sphere_and_the_ground():
+    _, run, thickness = lesson.drape(frames=20)
+    radius = lesson.DRAPE["radius"]
+    assert run.stable and thickness == pytest.approx(0.6 * 0.9 / 21)
+    assert np.linalg.norm(run.x[1:], axis=2).min() >= 1.03 * radius * (1 - 1e-12)
+    assert run.x[1:, :, 1].min() >= -radius - 1e-12
+
+
+def test_widget_frames():
+    fms = lesson.frame_experiment("fast_mass_spring", 100.0, 40)
+    assert fms.stable and abs(fms.peak - fms.reference_peak) < 1e-4     # converged
+    xpbd = [lesson.frame_experiment("xpbd", 100.0, n).peak for n in (1, 10, 40)]
+    assert xpbd[0] > xpbd[1] > xpbd[2] > fms.reference_peak               # more small steps, less stretch
+    blown = lesson.frame_experiment("symplectic_euler", 1000.0, 40)
+    assert not blown.stable and blown.verdict.startswith("blew up")
+    # symplectic Euler at ×1 needs more than 40 substeps to get through one frame
+    assert not lesson.frame_experiment("symplectic_euler", 1.0, 40).stable
+    assert lesson.frame_experiment("symplectic_euler", 1.0, 50).stable
+    view = drawings.frame_explorer()
+    view.controls["method"].value = "xpbd"
+    view.controls["iterations"].value = 5
+    assert view.result.params == {"method": "xpbd", "stiffness": 100.0, "iterations": 5, "n": 32}
+
+
+def test_showcase_animation_is_a_720p_clip_under_ten_seconds(monkeypatch):
+    small = lesson.drape(frames=4)
+    monkeypatch.setattr(lesson, "drape", lambda frames, fps: small)
+    anim = drawings.showcase_animation()
+    fig = anim._fig
+    assert tuple(fig.get_size_inches() * fig.dpi) == (1280.0, 720.0)
+    assert anim._interval == pytest.approx(1000 / 30)
+    import matplotlib.pyplot as plt
+    anim._draw_was_started = True                      # not rendered here: no warning
+    plt.close(fig)
+    # the real clip: 90 frames at 30 per second, 3 s
+    assert 90 / 30 <= 10
+
+
+# --- exercises -------------------------------------------------------------------------
+
+def project_springs(x, i, j, rest):
+    d = x[i] - x[j]
+    return rest[:, None] * d / np.linalg.norm(d, axis=1, keepdims=True)
+
+
+def xpbd_delta_lambda(C, lam, w, compliance, h):
+    alpha = compliance / h**2
+    return (-C - alpha * lam) / (w + alpha)
+
+
+def verdict(check_fn, answer):
+    return evaluate(check_fn, answer)
+
+
+def test_solutions_pass_and_stubs_are_pending():
+    assert verdict(check.project_springs, project_springs)["status"] == "correct"
+    assert verdict(check.xpbd_delta_lambda, xpbd_delta_lambda)["status"] == "correct"
+
+    def stub(*args):
+        raise NotImplementedError()
+
+    assert verdict(check.project_springs, stub)["status"] == "pending"
+    assert verdict(check.xpbd_delta_lambda, stub)["status"] == "pending"
+
+
+def test_delegating_answers_use_the_reference():
+    def delegating_projection(x, i, j, rest):
+        return cl.springs.SpringNetwork(i, j, rest, 1.0, 0.0, len(x)).project(x)
+
+    def delegating_lambda(C, lam, w, compliance, h):
+        return cl.largestep.delta_lambda(C, lam, w, compliance, h)
+
+    for fn, answer in ((check.project_springs, delegating_projection),
+                       (check.xpbd_delta_lambda, delegating_lambda)):
+        v = verdict(fn, answer)
+        assert v["status"] == "incorrect" and v["reference"], v
+
+
+@pytest.mark.parametrize("answer, hint", [
+    # misconceptions
+    (lambda x, i, j, rest: x[i] - x[j], "that is the spring itself"),
+    (lambda x, i, j, rest: project_springs(x, j, i, rest), "the direction is reversed"),
+    (lambda x, i, j, rest: (np.linalg.norm(x[i] - x[j], axis=1) - rest)[:, None]
+     * (x[i] - x[j]) / np.linalg.norm(x[i] - x[j], axis=1, keepdims=True), "stretch"),
+])
+def test_projection_mistakes_get_their_hints(answer, hint):
+    v = verdict(check.project_springs, answer)
+    assert v["status"] == "incorrect"
+    if hint:
+        assert any(hint in f for f in v["failed_cases"]), v["failed_cases"]
+
+
+def test_sorted_ends_shortcut_fails_on_springs_listed_backwards():
+    def sorted_ends(x, i, j, rest):
+        return project_springs(x, np.minimum(i, j), np.maximum(i, j), rest)
+
+    v = verdict(check.project_springs, sorted_ends)
+    assert v["status"] == "incorrect"
+    assert any("6 springs" in f for f in v["failed_cases"])
+
+
+@pytest.mark.parametrize("answer, hint", [
+    # shortcut: λ = 0 passes the first case only (the later cases have λ ≠ 0)
+    (lambda C, lam, w, a, h: -C / (w + a / h**2), "the multiplier λ so far is missing"),
+    (lambda C, lam, w, a, h: (-C - a * lam) / (w + a), "per step squared"),
+    (lambda C, lam, w, a, h: -C / w, "PBD's update"),
+    (lambda C, lam, w, a, h: -xpbd_delta_lambda(C, lam, w, a, h), "the sign"),
+])
+def test_lambda_mistakes_get_their_hints(answer, hint):
+    v = verdict(check.xpbd_delta_lambda, answer)
+    assert v["status"] == "incorrect"
+    assert any(hint in f for f in v["failed_cases"]), v["failed_cases"]
+    passed_first = "one stretched spring" in " ".join(v["passed_cases"])
+    if hint.startswith("the multiplier"):
+        assert passed_first                            # the shortcut only breaks on λ ≠ 0
+
+
+def test_check_records_its_result():
+    check.xpbd_delta_lambda(xpbd_delta_lambda)
+    assert RESULTS["nb12.xpbd_delta_lambda"]["status"] == "correct"
+
+
+def test_comparison_scene_is_the_bench_scene():
+    c = lesson.scene(12, 100.0)
+    ref = cloth.sheet(n=12, k_struct=3e4, damping_ratio=0.1)
+    assert np.array_equal(c.network.k, ref.network.k) and np.array_equal(c.network.c, ref.network.c)
