@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from planted import Plant, judge
 
 import course_lib as cl
 from course_lib import hair as H
@@ -36,6 +37,36 @@ def test_strand_setup_and_swing():
     (0.0, 0.0, 28.01), (2000.0, 0.0, 24.85), (0.0, 0.3, 29.24), (2000.0, 0.3, 3.31)])
 def test_held_strand_sag(k_bend, zigzag, sag_cm):
     assert nb08.tip_sag(k_bend, zigzag) * 100 == pytest.approx(sag_cm, abs=0.005)
+
+
+def test_the_held_zigzag_is_a_saddle_in_3d():
+    """Section 2's saddle: what the notebook prints, with tolerances from the solver's
+    force tolerance (1e-9 of the weight) and the run's sampling (every 5 ms)."""
+    esc = nb08.saddle_escape(k_bend=2000.0, zigzag=0.3)
+    assert f"{esc.planar.lowest:.3g}" == "0.0431" and esc.planar.lowest > 0
+    assert np.round(esc.lowest, 1).tolist() == [-21.8, -12.0, -6.6]
+    assert (f"{esc.planar.energy * 1e3:.3f}", f"{esc.minimum.energy * 1e3:.3f}") == ("-0.056", "-1.734")
+    assert f"{esc.minimum.lowest:.2g}" == "0.0026" and esc.minimum.lowest > 0
+    assert f"{-esc.minimum.x[-1, 1] * 100:.1f}" == "25.7"
+    assert f"{abs(esc.minimum.x[-1, 2]) * 1e3:.1f}" == "4.8"
+    assert np.all(esc.planar.x[:, 2] == 0.0)
+    # a nudge of 1 µm: 1 cm away after 0.04 s, at rest near the minimum (or its mirror)
+    assert f"{esc.t[np.argmax(esc.away > 0.01)]:.2f}" == "0.04"
+    assert esc.near[-1] < 2e-3
+    # the growth rate the prose quotes: sqrt(22 / 1e-4) ≈ 470 /s
+    assert np.sqrt(-esc.lowest[0] / M) == pytest.approx(470, rel=0.02)
+    # "almost as low as a plain chain (28 cm)": the edges-only tip sag
+    assert -esc.minimum.x[-1, 1] < nb08.tip_sag(0.0, 0.0)
+
+
+def test_simulate_is_integrate_to_round_off():
+    """Section 1: the fast loop's numbers are integrate's (its speed is measured in the
+    notebook, and by make bench, never by a timed unit test)."""
+    x0, net = S.hair_chain(**H.STRAND)
+    run = H.simulate(x0, net, frames=3, substeps=160)
+    traj = cl.integrate(H.strand_system(net), cl.stack_state(x0, 0 * x0), (0.0, 0.1), run.dt,
+                        "symplectic_euler")
+    assert np.allclose(traj.y[:, 0], run.x[:481], rtol=0, atol=1e-12)
 
 
 def test_static_shape_is_an_equilibrium():
@@ -298,6 +329,138 @@ def _springs(x0):
     return i, j, np.linalg.norm(x0[i] - x0[j], axis=1)
 
 
+STEP_RIGHT = """def step_limit(K, mass, pinned, fps):
+    d = K.shape[0] // len(mass)
+    free = np.setdiff1d(np.arange(len(mass)), pinned)
+    rows = (free[:, None] * d + np.arange(d)).ravel()
+    scale = 1.0 / np.sqrt(np.repeat(mass, d)[rows])
+    lam = np.linalg.eigvalsh(scale[:, None] * K[np.ix_(rows, rows)] * scale[None, :])
+    omega = np.sqrt(lam[-1])
+    dt = 2.0 / omega
+    return omega, dt, int(np.floor(1.0 / (fps * dt))) + 1"""
+SPRINGS_RIGHT = """def strand_springs(x0):
+    x0 = np.asarray(x0, dtype=float)
+    n = len(x0)
+    i = np.concatenate([np.arange(n - o) for o in (1, 2, 3)])
+    j = np.concatenate([np.arange(o, n) for o in (1, 2, 3)])
+    return i, j, np.linalg.norm(x0[i] - x0[j], axis=1)"""
+SIMULATED = """def step_limit(K, mass, pinned, fps):
+    d = K.shape[0] // len(mass)
+    free = np.setdiff1d(np.arange(len(mass)), pinned)
+    rows = (free[:, None] * d + np.arange(d)).ravel()
+    A = K[np.ix_(rows, rows)] / np.repeat(mass, d)[rows][:, None]
+    def stable(dt):
+        x = 1e-6 * np.ones(len(rows))
+        v = np.zeros(len(rows))
+        for _ in range(300):
+            v = v - dt * (A @ x)
+            x = x + dt * v
+        return np.abs(x).max() < 1.0
+    lo, hi = 1e-7, 1e-1
+    for _ in range(60):
+        mid = (lo * hi) ** 0.5
+        lo, hi = (mid, hi) if stable(mid) else (lo, mid)
+    return 2 / lo, lo, int(np.floor(1 / (fps * lo))) + 1"""
+
+PLANTS = [
+    Plant("strand_springs", "other", "right", SPRINGS_RIGHT, "correct", ""),
+    Plant("strand_springs", "delegating", "cl.strands.strand_network",
+          "def strand_springs(x0):\n    net = cl.strands.strand_network(x0, 1.0, 1.0, 1.0)\n"
+          "    return net.i, net.j, net.rest", "incorrect", "course_lib.strands.strand_network"),
+    Plant("strand_springs", "delegating", "cl.springs.chain_pairs",
+          "def strand_springs(x0):\n    n = len(x0)\n"
+          "    pairs = [cl.springs.chain_pairs(n, o) for o in (1, 2, 3)]\n"
+          "    i = np.concatenate([p[0] for p in pairs])\n    j = np.concatenate([p[1] for p in pairs])\n"
+          "    return i, j, np.linalg.norm(x0[i] - x0[j], axis=1)", "incorrect", "uses the reference"),
+    Plant("strand_springs", "shortcut", "rest = offset × segment (right only for a straight strand)",
+          SPRINGS_RIGHT.replace("np.linalg.norm(x0[i] - x0[j], axis=1)",
+                                "np.linalg.norm(x0[1] - x0[0]) * (j - i)"),
+          "incorrect", "on a curly strand a bending spring is shorter than two segments"),
+    Plant("strand_springs", "misconception", "bending/torsion springs between neighbours",
+          "def strand_springs(x0):\n    n = len(x0)\n"
+          "    i = np.concatenate([np.arange(n - 1)] + [np.arange(1, n - 1)] + [np.arange(2, n - 1)])\n"
+          "    j = i + 1\n    return i, j, np.linalg.norm(x0[i] - x0[j], axis=1)", "incorrect",
+          "those are edges again"),
+    Plant("strand_springs", "other", "one torsion spring short",
+          SPRINGS_RIGHT.replace("np.arange(n - o) for o in (1, 2, 3)",
+                                "np.arange(n - o - (o == 3)) for o in (1, 2, 3)")
+          .replace("np.arange(o, n) for o in (1, 2, 3)", "np.arange(o, n - (o == 3)) for o in (1, 2, 3)"),
+          "incorrect", "the family 3 apart has the wrong count"),
+    Plant("step_limit", "other", "right", STEP_RIGHT, "correct", ""),
+    Plant("step_limit", "delegating", "cl.max_stable_dt for the step",
+          STEP_RIGHT.replace("dt = 2.0 / omega", "dt = cl.max_stable_dt('symplectic_euler', 1j * omega)"),
+          "incorrect", "course_lib.stability.max_stable_dt"),
+    Plant("step_limit", "delegating", "scipy.integrate to measure it",
+          "import scipy.integrate\n" + STEP_RIGHT.replace(
+              "    omega = np.sqrt(lam[-1])",
+              "    scipy.integrate.solve_ivp(lambda t, y: -y, (0, 1), [1.0])\n    omega = np.sqrt(lam[-1])"),
+          "incorrect", "scipy.integrate"),
+    Plant("step_limit", "shortcut", "one mass for all (breaks on the tapered strand)",
+          STEP_RIGHT.replace("1.0 / np.sqrt(np.repeat(mass, d)[rows])",
+                             "np.full(len(rows), 1.0 / np.sqrt(mass[0]))"), "incorrect",
+          "each coordinate has its own mass"),
+    Plant("step_limit", "shortcut", "drops particle 0 only (breaks on a clamp and on [15, 0])",
+          STEP_RIGHT.replace("rows = (free[:, None] * d + np.arange(d)).ravel()",
+                             "rows = np.arange(d, K.shape[0])"), "incorrect",
+          "you dropped particle 0 only"),
+    Plant("step_limit", "shortcut", "assumes 3D (breaks on the 2D cloth)",
+          STEP_RIGHT.replace("d = K.shape[0] // len(mass)", "d = 3"), "incorrect", ""),
+    Plant("step_limit", "shortcut", "a search by simulation (NumPy only)", SIMULATED, "incorrect",
+          "searches for it by simulation"),
+    Plant("step_limit", "misconception", "dt = 1 / ω",
+          STEP_RIGHT.replace("dt = 2.0 / omega", "dt = 1.0 / omega"),
+          "incorrect", "not 1/ω_max"),
+    Plant("step_limit", "other", "eigenvalues of K without the masses",
+          STEP_RIGHT.replace("scale[:, None] * K[np.ix_(rows, rows)] * scale[None, :]",
+                             "K[np.ix_(rows, rows)]"),
+          "incorrect", "divide by the masses"),
+    Plant("step_limit", "other", "no square root", STEP_RIGHT.replace("np.sqrt(lam[-1])", "lam[-1]"),
+          "incorrect", "take the square root"),
+    Plant("step_limit", "other", "pinned particles kept",
+          STEP_RIGHT.replace("free = np.setdiff1d(np.arange(len(mass)), pinned)",
+                             "free = np.arange(len(mass))"), "incorrect", "drop their rows"),
+    Plant("step_limit", "other", "pinned rows instead of particles",
+          STEP_RIGHT.replace("rows = (free[:, None] * d + np.arange(d)).ravel()",
+                             "rows = np.setdiff1d(np.arange(K.shape[0]), pinned)"),
+          "incorrect", "each particle owns d rows"),
+    Plant("step_limit", "other", "rounds the substeps down",
+          STEP_RIGHT.replace("int(np.floor(1.0 / (fps * dt))) + 1", "int(1.0 / (fps * dt))"),
+          "incorrect", "round up"),
+    Plant("step_limit", "other", "takes the square root of every eigenvalue (NaN when compressed)",
+          STEP_RIGHT.replace("omega = np.sqrt(lam[-1])",
+                             "with np.errstate(invalid='ignore'):\n        omega = np.sqrt(lam).max()")
+          .replace("int(np.floor(1.0 / (fps * dt))) + 1", "np.floor(1.0 / (fps * dt)) + 1"),
+          "incorrect", "their square roots are NaN"),
+]
+
+
+@pytest.mark.parametrize("plant", PLANTS, ids=lambda p: f"{p.exercise}: {p.label}")
+def test_planted_answer(plant):
+    judge(check, plant)
+
+
+def test_every_exercise_has_the_three_kinds_of_plants():
+    for exercise in ("strand_springs", "step_limit"):
+        kinds = {p.kind for p in PLANTS if p.exercise == exercise}
+        assert {"delegating", "shortcut", "misconception"} <= kinds, exercise
+
+
+def test_step_limit_check_agrees_with_the_library():
+    """The check's limit is the library's max_frequency; on the notebook's strand it is the
+    exact formula of section 3, and the substeps are the 149 the prose quotes."""
+    from course_lib.check.nb08 import _step_cases, _substeps
+
+    for _, net, x, mass, pinned, fps in _step_cases():
+        omega = S.max_frequency(net, x, mass, pinned)
+        assert omega > 0
+        assert 1.0 / (fps * _substeps(2 / omega, fps)) < 2 / omega
+        assert 1.0 / (fps * (_substeps(2 / omega, fps) - 1)) >= 2 / omega
+    x0, net = S.hair_chain(**H.STRAND)
+    w = S.max_frequency(net, x0, M, [0])
+    assert w == pytest.approx(S.chain_max_frequency(15, K, M), rel=1e-12)
+    assert _substeps(2 / w, 30.0) == 149
+
+
 def test_check_strand_springs(capsys):
     check.strand_springs(_springs)
     assert _status("strand_springs") == "correct"
@@ -334,7 +497,8 @@ def test_check_strand_springs(capsys):
 
     for answer, hint in [(neighbours, "join neighbours, e.g. (i+1, i+2)"),
                          (straight_rest, "measure each rest length on the rest shape"),
-                         (no_torsion, "three families"), (one_too_many, "off by one")]:
+                         (no_torsion, "the family 3 apart has the wrong count"),
+                         (one_too_many, "off by one")]:
         check.strand_springs(answer)
         assert _status("strand_springs") == "incorrect"
         assert hint in capsys.readouterr().out, hint
@@ -352,39 +516,6 @@ def test_check_strand_springs(capsys):
 
     check.strand_springs(pending)
     assert _status("strand_springs") == "pending"
-
-
-def test_check_max_strain_for_substeps(capsys):
-    check.max_strain_for_substeps(lambda counts: nb08.max_strain_vs_substeps(counts))
-    assert _status("max_strain_for_substeps") == "correct"
-    capsys.readouterr()
-
-    def frames_only(counts):
-        out = []
-        for s in counts:
-            x0, net = S.hair_chain(**{**H.STRAND, "k_edge": nb08.stiffest_edge(s)})
-            out.append(np.max(np.abs(net.strain(H.simulate(x0, net, frames=12, substeps=s).frames))))
-        return out
-
-    check.max_strain_for_substeps(frames_only)
-    assert _status("max_strain_for_substeps") == "incorrect"
-    assert "at the frames only" in capsys.readouterr().out
-
-    check.max_strain_for_substeps(lambda counts: [np.nan] * len(counts))
-    assert "NaN" in capsys.readouterr().out
-
-    def borrowed(counts):
-        return nb08.max_strain_vs_substeps(counts)
-
-    borrowed.__module__ = "__main__"
-    check.max_strain_for_substeps(borrowed)
-    assert "uses the reference" in capsys.readouterr().out
-
-    def pending(counts):
-        raise NotImplementedError()
-
-    check.max_strain_for_substeps(pending)
-    assert _status("max_strain_for_substeps") == "pending"
 
 
 def test_hanging_strand_stretch():

@@ -1,7 +1,10 @@
 """Checks for notebook 08, hair as chains of masses and springs.
 
-Every exercise names the course_lib functions it must not call (``@exercise(reference=...)``,
-see :mod:`course_lib.check.policy`): an answer that calls them earns nothing.
+An answer may call no course_lib function (:mod:`course_lib.check.policy`); the step-limit
+exercise asks for a computation with the stiffness matrix, so it also refuses
+``scipy.integrate`` and a search by simulation written by hand
+(:func:`~course_lib.check._answers.call_analysis`). Hints name the slip the answer
+reproduces, or what the data that broke it show.
 """
 
 from __future__ import annotations
@@ -9,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from .. import hair, springs, strands
-from ..lessons import nb08_hair_runs as lesson
 from . import Checker, exercise
+from ._answers import as_array, call_analysis
 from .tolerance import blown_up, precision_rtol
 
 
@@ -27,7 +30,7 @@ def _families(n: int, offsets) -> tuple[np.ndarray, np.ndarray]:
     return i, j
 
 
-@exercise(reference=(strands.strand_network, springs.hair_chain, springs.chain_pairs))
+@exercise(allow=())
 def strand_springs(ck: Checker, func) -> None:
     """``func(x0) -> (i, j, rest)``: edges, bending and torsion springs on a rest shape."""
     cases = [("a curly (helical) strand of 16 particles",
@@ -61,11 +64,12 @@ def strand_springs(ck: Checker, func) -> None:
         if got.shape != expected.shape:
             counts = {o: int(np.sum(np.abs(np.asarray(j, int) - np.asarray(i, int)) == o))
                       for o in (1, 2, 3)}
+            short = [o for o, want in ((1, n - 1), (2, n - 2), (3, n - 3)) if counts[o] != want]
             ck.expect(False, what, f"expected {len(expected)} springs ({n - 1} edges, {n - 2} "
                       f"bending, {n - 3} torsion), got {got.shape[0]}: {counts[1]} one apart, "
                       f"{counts[2]} two apart, {counts[3]} three apart",
-                      hint="three families: (s, s+1) for s < n-1, (s, s+2) for s < n-2, "
-                           "(s, s+3) for s < n-3")
+                      hint=(f"the family {short[0]} apart has the wrong count: (s, s+{short[0]}) "
+                            f"runs over s = 0 ... n-{short[0] + 1}") if short else None)
             continue
         if not np.array_equal(got[:, :2], expected[:, :2]):
             ends = np.asarray(j, int) - np.asarray(i, int)
@@ -76,7 +80,7 @@ def strand_springs(ck: Checker, func) -> None:
                         "are edges again. A bending spring skips one particle, (i, i+2); a "
                         "torsion spring skips two, (i, i+3)")
             else:
-                hint = "list (s, s+1), (s, s+2) and (s, s+3)"
+                hint = None
             ck.expect(False, what, "these are not the springs (s, s+1), (s, s+2), (s, s+3)",
                       hint=hint)
             continue
@@ -88,27 +92,100 @@ def strand_springs(ck: Checker, func) -> None:
                 i_ref, j_ref, np.full(i_ref.size, seg)),
         }
         ck.close(got, expected, what, rtol=precision_rtol(rest, 1e-12), atol=1e-15,
-                 mistakes=mistakes, hint="rest = |x0[i] - x0[j]| for every spring")
+                 mistakes=mistakes)
 
 
-@exercise(allow=(hair.simulate, lesson.stiffest_edge, "course_lib.springs.hair_chain"))
-def max_strain_for_substeps(ck: Checker, func) -> None:
-    """``func(substep_counts) -> list``: max edge strain for each substep budget."""
-    counts = [10, 20, 40]
-    got = func(list(counts))
-    if blown_up(ck, got, f"max |strain| for substeps {counts}", run=False):
-        return
-    got = np.asarray(got, dtype=float)
-    expected = np.asarray(lesson.max_strain_vs_substeps(counts), dtype=float)
-    at_frames = []
-    for s in counts:
-        x0, net = springs.hair_chain(**{**hair.STRAND, "k_edge": lesson.stiffest_edge(s)})
-        run = hair.simulate(x0, net, frames=12, substeps=s)
-        at_frames.append(np.max(np.abs(net.strain(run.frames))))
-    ck.close(got, expected, f"max |strain| for substeps {counts}", rtol=1e-6, mistakes={
-        "you measured the strain at the frames only (run.frames); take the maximum over every "
-        "substep (run.x)": at_frames,
-    }, hint="for each S: build the strand with k_edge = lesson.stiffest_edge(S), simulate, "
-            "then np.max(np.abs(net.strain(run.x)))")
-    ck.expect(got.shape == (3,) and bool(np.all(np.diff(got) < 0)),
-              "the error decreases as the substeps grow", f"got {got}")
+def _step_cases():
+    """(what, network, x, mass, pinned, fps): strands and a 2D cloth at rest, equal and
+    unequal masses, pinned particles not only at the start of the list, and a squeezed
+    strand whose stiffness matrix is not positive definite."""
+    x0, net = springs.hair_chain(**hair.STRAND)
+    yield ("the notebook's strand (edges only, root pinned)", net, x0,
+           np.full(16, hair.MASS), [0], 30.0)
+    xz, zig = springs.hair_chain(**hair.STRAND, k_bend=2000.0, zigzag=0.3)
+    yield ("a tapered zigzag strand (0.2 g to 0.05 g), clamped [0, 1]", zig, xz,
+           np.linspace(2e-4, 5e-5, 16), [0, 1], 30.0)
+    xc, cloth = springs.cloth_grid(4, 4, spacing=0.05, k_struct=500.0, k_shear=50.0, k_bend=5.0)
+    yield ("a 4 × 4 cloth in 2D, corners pinned as [15, 0]", cloth,
+           xc[:, :2], np.full(16, 2e-3), [15, 0], 60.0)
+    yield ("the strand squeezed to 90 % (K not positive definite)", net, 0.9 * x0,
+           np.full(16, hair.MASS), [0], 30.0)
+
+
+def _top(K, mass, dofs, dim, per_coordinate=True):
+    """sqrt of the largest eigenvalue of M^{-1/2} K M^{-1/2} on ``dofs`` (0 if none > 0)."""
+    m = np.repeat(mass, dim)[dofs] if per_coordinate else np.full(len(dofs), mass)
+    w = 1.0 / np.sqrt(m)
+    lam = np.linalg.eigvalsh(w[:, None] * K[np.ix_(dofs, dofs)] * w[None, :])
+    return float(np.sqrt(max(lam[-1], 0.0)))
+
+
+def _substeps(dt_max: float, fps: float) -> int:
+    """Fewest substeps per frame whose step 1 / (fps S) is below ``dt_max`` (strictly)."""
+    return int(np.floor(1.0 / (fps * dt_max))) + 1
+
+
+def _omega_mistakes(K, mass, pinned, dim) -> dict:
+    """Wrong ω_max that the usual slips give."""
+    n = len(mass)
+    free = np.setdiff1d(np.arange(n), pinned)
+    dofs = (free[:, None] * dim + np.arange(dim)).ravel()
+    rows = np.setdiff1d(np.arange(n * dim), pinned)             # pinned rows, not particles
+    scale = np.repeat(1.0 / np.sqrt(mass), dim)[dofs]
+    return {
+        "the pinned particles cannot move: drop their rows and columns of K first":
+            _top(K, mass, np.arange(n * dim), dim),
+        ("each particle owns d rows of K: particle p is rows p·d ... p·d + d - 1, so dropping "
+         "row p is not dropping particle p", "d = K.shape[0] // len(mass); the free rows are "
+         "p·d + (0 ... d-1) for every particle p not pinned"): _top(K, mass, rows, dim),
+        "pinned lists every pinned particle, in any order: you dropped particle 0 only":
+            _top(K, mass, np.arange(dim, n * dim), dim),
+        "each coordinate has its own mass (this strand is tapered): scale K by 1/√m on both "
+        "sides, row by row, not by one mass": _top(K, float(mass[0]), dofs, dim, False),
+        "the mean mass is not the mass of each particle: scale K by 1/√m row by row":
+            _top(K, float(np.mean(mass)), dofs, dim, False),
+        "divide by the masses: ω² are the eigenvalues of M⁻¹K, not of K":
+            np.sqrt(max(np.linalg.eigvalsh(K[np.ix_(dofs, dofs)])[-1], 0.0)),
+        "the eigenvalues of M⁻¹K are ω²: take the square root":
+            float(np.linalg.eigvalsh(scale[:, None] * K[np.ix_(dofs, dofs)] * scale)[-1]),
+    }
+
+
+@exercise(allow=(), forbid=("scipy.integrate",))
+def step_limit(ck: Checker, func) -> None:
+    """``func(K, mass, pinned, fps) -> (omega_max, dt_max, substeps)``: the explicit step
+    limit from the stiffness matrix, and the substeps a frame needs."""
+    for what, net, x, mass, pinned, fps in _step_cases():
+        K, dim = springs.stiffness_matrix(net, x), x.shape[1]
+        omega = springs.max_frequency(net, x, mass, pinned)
+        dt_max, substeps = 2.0 / omega, _substeps(2.0 / omega, fps)
+        ok, got = call_analysis(ck, what, 400, (
+            "the exercise asks for the limit from the matrix (its eigenvalues): your function "
+            "searches for it by simulation"), func, K.copy(), mass.copy(), list(pinned), fps)
+        if not ok:
+            continue
+        answer = as_array(got)
+        if answer is None or answer.shape != (3,):
+            ck.expect(False, what, f"return three numbers (omega_max, dt_max, substeps), got "
+                      f"{got!r}"[:150])
+            continue
+        if blown_up(ck, answer, what, run=False, hint=(
+                "a compressed spring makes some eigenvalues of M⁻¹K negative: their square "
+                "roots are NaN. Only the largest one matters")):
+            continue
+        w_got, dt_got, s_got = (float(a) for a in answer)
+        rtol = precision_rtol(got, 1e-9)
+        w_ok = ck.close(w_got, omega, f"{what}: ω_max (rad/s)", rtol=rtol,
+                        mistakes=_omega_mistakes(K, mass, pinned, dim))
+        follows = w_got > 0 and np.isclose(dt_got, 2.0 / w_got, rtol=rtol)
+        ck.close(dt_got, dt_max, f"{what}: largest stable step (s)", rtol=rtol, mistakes={
+            "symplectic Euler is stable for ω dt < 2: the limit is 2/ω_max, not 1/ω_max":
+                1.0 / w_got if w_got > 0 else np.nan},
+            hint=None if w_ok or not follows else
+            "your step is 2 / (your ω_max), the right rule: fix ω_max and it follows")
+        follows = dt_got > 0 and s_got == _substeps(dt_got, fps)
+        ck.close(s_got, substeps, f"{what}: substeps at {fps:g} fps", rtol=0.0,
+                 atol=0.0, mistakes={"round up: with one substep fewer the step is longer than "
+                                     "the limit": substeps - 1},
+                 hint=None if not follows else
+                 "your count follows from your step, the right rule: fix the step and it follows")

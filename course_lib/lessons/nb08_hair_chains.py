@@ -11,9 +11,11 @@ from __future__ import annotations
 
 from .nb08_hair_runs import (
     HeldStrandRun,
+    SaddleEscape,
     held_strand,
     max_strain_vs_substeps,
     run_held_strand,
+    saddle_escape,
     stiffest_edge,
     tip_sag,
     twist_energy,
@@ -25,9 +27,11 @@ from .nb08_hair_view import (
     animate,
     draw_hairstyle,
     draw_held_strand,
+    draw_saddle,
     held_strand_explorer,
 )
 
-__all__ = ["HeldStrandPlot", "HeldStrandRun", "animate", "draw_hairstyle", "draw_held_strand",
-           "held_strand", "held_strand_explorer", "max_strain_vs_substeps", "run_held_strand",
-           "stiffest_edge", "tip_sag", "twist_energy", "twist_release", "twist_shapes"]
+__all__ = ["HeldStrandPlot", "HeldStrandRun", "SaddleEscape", "animate", "draw_hairstyle",
+           "draw_held_strand", "draw_saddle", "held_strand", "held_strand_explorer",
+           "max_strain_vs_substeps", "run_held_strand", "saddle_escape", "stiffest_edge",
+           "tip_sag", "twist_energy", "twist_release", "twist_shapes"]

@@ -14,8 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..forces import G_EARTH
 from ..hair import FPS, MASS, STRAND, max_strain, simulate, static_shape, symplectic_euler_run
 from ..springs import hair_chain, max_frequency
+from ..statics import Equilibrium, curvature, equilibrium
 from ..strands import helix, strand_network, twist, twist_angle
 
 
@@ -61,6 +63,46 @@ def tip_sag(k_bend: float = 0.0, zigzag: float = 0.0) -> float:
     gravity (root clamped: particles 0 and 1 pinned)."""
     x0, _ = held_strand(k_bend, zigzag)
     return float(x0[-1, 1] - _held_equilibrium(float(k_bend), float(zigzag))[-1, 1])
+
+
+# --- the held zigzag: a minimum in its plane, a saddle in 3D ----------------------------
+
+
+@dataclass
+class SaddleEscape:
+    """Result of :func:`saddle_escape`."""
+
+    planar: Equilibrium       #: the strand's equilibrium kept in its plane (axes x, y)
+    minimum: Equilibrium      #: the stable resting shape in 3D
+    lowest: np.ndarray        #: the three lowest eigenvalues of K in 3D at ``planar`` (N/m)
+    t: np.ndarray             #: times of the stored states of the nudged run (s)
+    x: np.ndarray             #: its states (m), shape (F, n, 3)
+    away: np.ndarray          #: distance of each stored state from ``planar`` (m)
+    near: np.ndarray          #: ... from ``minimum`` or its mirror image z -> -z (m)
+
+
+def saddle_escape(k_bend: float = 2000.0, zigzag: float = 0.3, nudge: float = 1e-6,
+                  damping: float = 2e-3, dt: float = 1e-4, t_end: float = 3.0, seed: int = 8,
+                  every: int = 50) -> SaddleEscape:
+    """The held strand's equilibrium in its plane, the stiffness matrix there in 3D, the
+    stable 3D resting shape (:func:`course_lib.statics.equilibrium`), and a damped run
+    started at the planar equilibrium nudged by ``nudge`` (m, seeded, every coordinate).
+    Distances are Euclidean norms over all coordinates."""
+    x0, net = held_strand(k_bend, zigzag)
+    planar = equilibrium(x0, net, MASS, (0, 1), G_EARTH, axes=(0, 1))
+    minimum = equilibrium(x0, net, MASS, (0, 1), G_EARTH)
+    rng = np.random.default_rng(seed)
+    push = nudge * rng.standard_normal(x0.shape)
+    push[:2] = 0.0
+    x, _ = symplectic_euler_run(planar.x + push, net, dt, round(t_end / dt), pinned=(0, 1),
+                                damping=damping)
+    x = x[::every]
+    mirror = minimum.x * np.array([1.0, 1.0, -1.0])
+    near = np.minimum(np.linalg.norm(x - minimum.x, axis=(1, 2)),
+                      np.linalg.norm(x - mirror, axis=(1, 2)))
+    return SaddleEscape(planar, minimum, curvature(net, planar.x, (0, 1))[:3],
+                        dt * every * np.arange(len(x)), x,
+                        np.linalg.norm(x - planar.x, axis=(1, 2)), near)
 
 
 # --- the notebook 08 widget's pure function -------------------------------------------------

@@ -23,7 +23,7 @@ from matplotlib.ticker import MaxNLocator
 from ..hair import FPS
 from ..plotting import EXACT_STYLE, detached_figure
 from ..springs import SpringNetwork
-from .nb08_hair_runs import HeldStrandRun, run_held_strand
+from .nb08_hair_runs import HeldStrandRun, SaddleEscape, run_held_strand
 
 #: The widget's time span (s) and cap on the steps of one run (and so on its update time).
 T_END, MAX_STEPS = 0.3, 3000
@@ -143,6 +143,42 @@ def held_strand_explorer(k_bend: float = 2000.0, damping: float = 2e-3, dt: floa
     }
     return BusyExplorerView(run_held_strand, HeldStrandPlot(), controls,
                             fixed={"max_steps": MAX_STEPS, "t_end": T_END})
+
+
+def draw_saddle(esc: SaddleEscape, rest=None):
+    """The held zigzag seen from the front (x, y) and along the held-out direction (z, y,
+    stretched across): its equilibrium in its plane, the stable 3D resting shape, and
+    snapshots of the run nudged off the first; on the right the tip's height against time.
+    ``rest`` (n, 3) draws the rest shape too."""
+    fig, (front, side, tip) = plt.subplots(1, 3, figsize=(12.5, 3.9),
+                                           gridspec_kw={"width_ratios": [1.2, 0.8, 1.1]})
+    picks = np.searchsorted(esc.t, [0.03, 0.05, 0.07, 0.1, 0.2])
+    shades = plt.cm.Greys(np.linspace(0.35, 0.75, len(picks)))
+    for ax, (h, v) in zip((front, side), ((0, 1), (2, 1)), strict=True):
+        if rest is not None:
+            ax.plot(rest[:, h], rest[:, v], **{**EXACT_STYLE, "linewidth": 1.0},
+                    label="rest shape")
+        for k, c in zip(picks, shades, strict=True):
+            ax.plot(esc.x[k, :, h], esc.x[k, :, v], color=c, lw=0.8,
+                    label=f"nudged run, t = {esc.t[picks[0]]:.2f} ... {esc.t[k]:.1f} s"
+                    if k == picks[-1] else None)
+        ax.plot(esc.planar.x[:, h], esc.planar.x[:, v], "o-", color="C1", ms=2.5, lw=1.5,
+                label="equilibrium in its plane (a saddle)")
+        ax.plot(esc.minimum.x[:, h], esc.minimum.x[:, v], "o-", color="C3", ms=2.5, lw=2,
+                label="stable resting shape")
+        ax.set(ylim=(-0.29, 0.03), ylabel="y (m)")
+    front.set(xlabel="x (m)", aspect="equal", xlim=(-0.02, 0.32), title="from the front")
+    side.set(xlabel="z (m), across the plane", xlim=(-0.012, 0.012),
+             title="seen along x (z stretched)")
+    side.xaxis.set_major_locator(MaxNLocator(3))
+    front.legend(fontsize=7, loc="lower left", bbox_to_anchor=(0.25, 0.0))
+    tip.plot(esc.t, esc.x[:, -1, 1] * 100, color="0.3", label="tip of the nudged run")
+    tip.axhline(esc.planar.x[-1, 1] * 100, color="C1", ls="--", label="in-plane equilibrium")
+    tip.axhline(esc.minimum.x[-1, 1] * 100, color="C3", ls="--", label="stable resting shape")
+    tip.set(xlabel="t (s)", ylabel="tip height y (cm)", title="nudged by 1 µm, damped")
+    tip.legend(fontsize=8, loc="center right")
+    fig.tight_layout()
+    return fig
 
 
 # --- strands seen from the front and the side ----------------------------------------------
