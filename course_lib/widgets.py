@@ -8,6 +8,10 @@ Every interactive demo in the course has two halves:
   control changes; it never prints (printing from a widget callback lands in widget state
   and upsets nbval).
 
+:class:`PictureView` shows the figure as a PNG in an image widget (no flicker, no page
+jump) and says "computing…" while it works; :class:`BlitPlot` is a figure whose axes never
+change, so only its moving artists are redrawn (notebooks 02 and 04 use both).
+
 Tests drive a view the way a student does, by setting a control's ``.value``, then assert
 on ``view.result``. Outside a kernel (tests, benchmarks) the figure is drawn off-screen and
 closed, so drawing code is exercised too.
@@ -15,6 +19,7 @@ closed, so drawing code is exercised too.
 
 from __future__ import annotations
 
+import io
 from collections.abc import Callable, Mapping
 
 import matplotlib.pyplot as plt
@@ -108,3 +113,84 @@ class ExplorerView:
         from IPython.display import display
 
         display(self.widget)
+
+
+class PictureView(ExplorerView):
+    """An :class:`ExplorerView` whose figure is a PNG in an image widget.
+
+    ``draw(result)`` updates the figure; ``draw.png()`` renders it. ``name`` is what the
+    stored output says in place of the widget when no kernel runs.
+    """
+
+    def __init__(self, compute, draw, controls, fixed=None, name: str = "Explorer"):
+        import ipywidgets as w
+
+        self.name = name
+        self.status = w.HTML(value="", layout=w.Layout(min_width="9em"))
+        self.image = w.Image(format="png")
+        super().__init__(compute, draw, controls, fixed)
+        self.widget = w.VBox([
+            w.HBox([*self.controls.values(), self.status], layout=w.Layout(flex_flow="row wrap")),
+            self.image,
+        ])
+
+    def update(self) -> None:
+        """Recompute from the controls' values and redraw, saying so while it runs."""
+        self.status.value = "<i>computing…</i>"
+        try:
+            self.result = self.compute(**self.params)
+            self.figure = self.draw(self.result)
+            self.image.value = self.draw.png()
+        finally:
+            self.status.value = ""
+
+    def _repr_mimebundle_(self, **kwargs):
+        bundle = self.widget._repr_mimebundle_(**kwargs)
+        bundle["text/plain"] = (f"{self.name} (interactive): run this cell in a Jupyter kernel "
+                                "to use it; the player above shows its key states.")
+        return bundle
+
+    def _ipython_display_(self) -> None:
+        from IPython.display import display
+
+        display(self._repr_mimebundle_(), raw=True)
+
+
+def png_of(fig) -> bytes:
+    """The figure's Agg canvas as PNG bytes (fast compression: a widget sends it at once)."""
+    from PIL import Image
+
+    buffer = io.BytesIO()
+    Image.fromarray(np.asarray(fig.canvas.buffer_rgba())).save(buffer, format="png",
+                                                               compress_level=1)
+    return buffer.getvalue()
+
+
+class BlitPlot:
+    """A figure whose axes never change: :meth:`render` draws everything once, keeps that
+    picture, and afterwards redraws only the artists in :attr:`dynamic` over it."""
+
+    def __init__(self, fig, blit: bool):
+        self.fig, self.blit = fig, blit
+        self.dynamic: list = []
+        self._background = None
+
+    def render(self) -> None:
+        canvas = self.fig.canvas
+        if not self.blit:
+            canvas.draw()
+            return
+        if self._background is None or self._size != canvas.get_width_height():
+            for artist in self.dynamic:
+                artist.set_animated(True)
+            canvas.draw()
+            self._background = canvas.copy_from_bbox(self.fig.bbox)
+            self._size = canvas.get_width_height()
+        else:
+            canvas.restore_region(self._background)
+        for artist in self.dynamic:
+            self.fig.draw_artist(artist)
+
+    def png(self) -> bytes:
+        self.render()
+        return png_of(self.fig)

@@ -113,9 +113,25 @@ def flocking_player(separation: float = 0.3, cohesion: float = 1.0,
     )
 
 
+def spiral_player() -> Player:
+    """Notebook 02's spiral explorer: the dt slider, precomputed."""
+    from .nb02_spiral_view import spiral_player as player
+
+    return player()
+
+
+def follower_player() -> Player:
+    """Notebook 04's follower explorer: the κ dt slider, precomputed."""
+    from .nb04_follower_view import follower_player as player
+
+    return player()
+
+
 #: The players, by the notebook that shows them (for the site and the tests).
 PLAYERS = {
+    "02_forward_euler": spiral_player,
     "03_stability": stability_player,
+    "04_beyond_euler": follower_player,
     "07_springs": spring_player,
     "08_hair_chains": hair_player,
     "10_flocking": flocking_player,

@@ -1,8 +1,5 @@
 """Notebook 02 (forward Euler): the spiral explorer, dt against the spiral and the errors.
 
-- :class:`PictureView` is a thin :class:`course_lib.widgets.ExplorerView` that shows its
-  figure as a PNG in an image widget (no flicker, no page jump) and says "computing" while
-  it works; its ``draw`` is an object with a ``png()`` method (notebook 04 uses it too).
 - :class:`SpiralPlot` draws a :class:`~course_lib.lessons.nb02_forward_euler.SpiralResult`
   in two panels: one revolution of forward Euler beside the exact circle, and the global
   (slope 1) and local (slope 2) error curves against dt with the chosen step marked. Its
@@ -15,14 +12,12 @@ Imports the lesson's computation, the view helpers and matplotlib.
 
 from __future__ import annotations
 
-import io
-
 import numpy as np
 
 from ..fields import grid, sample, vortex
 from ..players import Player, parameter_player
 from ..plotting import EXACT_STYLE, METHOD_COLORS, detached_figure
-from ..widgets import ExplorerView, log_slider
+from ..widgets import BlitPlot, PictureView, log_slider
 from .nb02_forward_euler import SPIRAL_DT_RANGE, SpiralResult, convergence_curves, spiral_experiment
 
 #: Size of the explorer's figure (in).
@@ -31,87 +26,6 @@ FIGSIZE = (10.5, 4.3)
 SPIRAL_VIEW = 4.5
 #: Time steps (s) of the kernel-free player.
 SPIRAL_DTS = (0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0)
-
-
-class PictureView(ExplorerView):
-    """An :class:`~course_lib.widgets.ExplorerView` whose figure is a PNG in an image widget.
-
-    ``draw(result)`` updates the figure; ``draw.png()`` renders it. ``name`` is what the
-    stored output says in place of the widget when no kernel runs.
-    """
-
-    def __init__(self, compute, draw, controls, fixed=None, name: str = "Explorer"):
-        import ipywidgets as w
-
-        self.name = name
-        self.status = w.HTML(value="", layout=w.Layout(min_width="9em"))
-        self.image = w.Image(format="png")
-        super().__init__(compute, draw, controls, fixed)
-        self.widget = w.VBox([
-            w.HBox([*self.controls.values(), self.status], layout=w.Layout(flex_flow="row wrap")),
-            self.image,
-        ])
-
-    def update(self) -> None:
-        """Recompute from the controls' values and redraw, saying so while it runs."""
-        self.status.value = "<i>computing…</i>"
-        try:
-            self.result = self.compute(**self.params)
-            self.figure = self.draw(self.result)
-            self.image.value = self.draw.png()
-        finally:
-            self.status.value = ""
-
-    def _repr_mimebundle_(self, **kwargs):
-        bundle = self.widget._repr_mimebundle_(**kwargs)
-        bundle["text/plain"] = (f"{self.name} (interactive): run this cell in a Jupyter kernel "
-                                "to use it; the player above shows its key states.")
-        return bundle
-
-    def _ipython_display_(self) -> None:
-        from IPython.display import display
-
-        display(self._repr_mimebundle_(), raw=True)
-
-
-def png_of(fig) -> bytes:
-    """The figure's Agg canvas as PNG bytes (fast compression: a widget sends it at once)."""
-    from PIL import Image
-
-    buffer = io.BytesIO()
-    Image.fromarray(np.asarray(fig.canvas.buffer_rgba())).save(buffer, format="png",
-                                                               compress_level=1)
-    return buffer.getvalue()
-
-
-class BlitPlot:
-    """A figure whose axes never change: :meth:`render` draws everything once, keeps that
-    picture, and afterwards redraws only the artists in :attr:`dynamic` over it."""
-
-    def __init__(self, fig, blit: bool):
-        self.fig, self.blit = fig, blit
-        self.dynamic: list = []
-        self._background = None
-
-    def render(self) -> None:
-        canvas = self.fig.canvas
-        if not self.blit:
-            canvas.draw()
-            return
-        if self._background is None or self._size != canvas.get_width_height():
-            for artist in self.dynamic:
-                artist.set_animated(True)
-            canvas.draw()
-            self._background = canvas.copy_from_bbox(self.fig.bbox)
-            self._size = canvas.get_width_height()
-        else:
-            canvas.restore_region(self._background)
-        for artist in self.dynamic:
-            self.fig.draw_artist(artist)
-
-    def png(self) -> bytes:
-        self.render()
-        return png_of(self.fig)
 
 
 class SpiralPlot(BlitPlot):

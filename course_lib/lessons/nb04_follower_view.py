@@ -16,8 +16,7 @@ import numpy as np
 from ..players import Player, parameter_player
 from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS, detached_figure
 from ..stability import amplification_factor
-from ..widgets import log_slider
-from .nb02_spiral_view import BlitPlot, PictureView
+from ..widgets import BlitPlot, PictureView, log_slider
 from .nb04_beyond_euler import FOLLOWER_METHODS, KAPPA_DT_RANGE, FollowerResult, follower_experiment
 
 #: Size of the explorer's figure (in).

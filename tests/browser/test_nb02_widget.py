@@ -16,7 +16,7 @@ import labpage
 NAME = "02_forward_euler"
 PROBE = """
 import gc, json
-from course_lib.lessons.nb02_spiral_view import PictureView
+from course_lib.widgets import PictureView
 views = [v for v in gc.get_objects() if isinstance(v, PictureView) and "dt" in v.controls]
 r = views[-1].result
 print(json.dumps([r.dt, r.growth, r.growth_theory, r.error]))

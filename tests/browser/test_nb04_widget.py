@@ -16,7 +16,7 @@ import labpage
 NAME = "04_beyond_euler"
 PROBE = """
 import gc, json
-from course_lib.lessons.nb02_spiral_view import PictureView
+from course_lib.widgets import PictureView
 views = [v for v in gc.get_objects() if isinstance(v, PictureView) and "kappa_dt" in v.controls]
 r = views[-1].result
 print(json.dumps([r.kappa_dt, r.stable, r.R]))
