@@ -195,8 +195,9 @@ def nbody_force(ck: Checker, func) -> None:
         got = func(x.view(_Bodies), m.copy(), G, eps)
         if _Bodies.looped:
             ck.expect(False, what, "your function loops over the bodies one at a time",
-                      hint="broadcast: r = x[:, None, :] - x[None, :, :] holds every pair at "
-                           "once, shape (N, N, d)")
+                      hint=("work on every pair at once with broadcasting, no loop over bodies",
+                            "r = x[:, None, :] - x[None, :, :] holds every pair at once, "
+                            "shape (N, N, d)"))
             continue
         got = np.asarray(got)
         if blown_up(ck, got, what, run=False):

@@ -73,7 +73,8 @@ def spring_force(ck: Checker, func) -> None:
     scale = precision_rtol(f1, 1e-14) * 10 * (1.0 + np.abs(f1).max()) * (1.0 + np.abs(x1).max())
     f1, f2 = np.asarray(f1, dtype=float), np.asarray(f2, dtype=float)
     ck.close(f1 + f2, np.zeros(3), "momentum: F1 + F2 = 0", atol=scale,
-             hint="swap the arguments: the force on particle 2 must be exactly -F1")
+             hint="with its arguments swapped your function gives the force on particle 2, "
+                  "which must be exactly -F1: the same magnitude, the opposite direction")
     ck.close(np.cross(x1, f1) + np.cross(x2, f2), np.zeros(3),
              "angular momentum: x1 × F1 + x2 × F2 = 0", atol=scale,
              hint="the force must act along the line x1 - x2")
@@ -167,8 +168,9 @@ def network_forces(ck: Checker, func) -> None:
                    k.copy(), c.copy())
         if _Indices.looped:
             ck.expect(False, what, "your function loops over the springs one at a time",
-                      hint="work on all springs at once: d = x[i] - x[j] gives every spring's "
-                           "vector; np.add.at (or np.bincount) adds them onto particles")
+                      hint=("work on all springs at once: index the positions with the arrays "
+                            "i and j", "d = x[i] - x[j] gives every spring's vector; np.add.at "
+                            "(or np.bincount) adds the forces onto particles"))
             continue
         if blown_up(ck, got, what, run=False):
             continue

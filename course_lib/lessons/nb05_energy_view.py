@@ -133,7 +133,9 @@ def energy_explorer(dt: float = 0.1):
     """The energy-band widget: a log slider for ``dt`` over
     :func:`~course_lib.lessons.nb05_newton.energy_bands` (ω = 1 rad/s, 20 periods)."""
     from ..widgets import ExplorerView, log_slider
+    from .busy_view import load_backend
 
+    load_backend()
     return ExplorerView(energy_bands, EnergyBandPlot(),
                         {"dt": log_slider("dt (s)", dt, *DT_RANGE)})
 

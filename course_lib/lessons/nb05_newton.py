@@ -209,5 +209,5 @@ def energy_bands(dt: float = 0.1, omega: float = 1.0, periods: float = 20.0) -> 
         verdict = (f"stable: symplectic Euler's E/E0 in [{lo:.3g}, {hi:.3g}], Verlet's up to "
                    f"{(1 - vlo) * 100:.2g} % below 1; {fe} in {periods:g} periods")
     else:
-        verdict = f"unstable (ω dt ≥ 2): symplectic Euler and Verlet grow; {fe}"
+        verdict = f"unstable: ω dt ≥ 2, symplectic Euler and Verlet grow; {fe}"
     return EnergyBands(dt, omega, t, ratio, band, spread, bool(stable), verdict)
