@@ -17,7 +17,7 @@ from ..lessons import nb05_newton as lesson
 from ..systems import newtonian, oscillator, stack_state, sum_forces
 from . import Checker, exercise
 from ._answers import as_array, close, mistake_hint, one_number, pure_call
-from .tolerance import blown_up, precision_rtol
+from .tolerance import blown_up, escalate, precision_rtol
 
 
 def _driven(t, y):
@@ -93,7 +93,7 @@ def symplectic_euler_step(ck: Checker, step) -> None:
         x_first = x + dt * v
         a_late = f(t + dt, y)[1]
         return {
-            ("this is forward Euler: symplectic Euler moves x with the NEW velocity",
+            escalate("this is forward Euler: symplectic Euler moves x with the NEW velocity",
              "v_new = v + dt a, then x_new = x + dt v_new (not x + dt v)"):
                 np.stack((x + dt * v, v + dt * a)),
             "that is the other symplectic Euler (x first, then v from the new x); here the "
@@ -108,10 +108,10 @@ def symplectic_euler_step(ck: Checker, step) -> None:
 
     _one_step(ck, step, symplectic_euler, mistakes, times_wanted=(0,), tells=[
         (lambda a, e, y, dt: _same(a[1], e[1]),
-         ("your velocities are right and your positions are not: move x with the velocity you "
+         escalate("your velocities are right and your positions are not: move x with the velocity you "
           "just computed", "x_new = x + dt v_new")),
         (lambda a, e, y, dt: _same(a[0], y[0] + dt * a[1]),
-         ("your positions follow from your velocities, but the velocities are off: the "
+         escalate("your positions follow from your velocities, but the velocities are off: the "
           "velocity changes by dt times the acceleration at the start of the step",
           "v_new = v + dt f(t, y)[1]"))])
 
@@ -128,7 +128,7 @@ def velocity_verlet_step(ck: Checker, step) -> None:
             "the second half kick must use the acceleration at the NEW position "
             "f(t + dt, (x_new, v_half))[1], not the old one":
                 np.stack((x_new, v_half + 0.5 * dt * a)),
-            ("use half kicks: the drift moves x with the half-step velocity",
+            escalate("use half kicks: the drift moves x with the half-step velocity",
              "v_half = v + dt/2 a, then x_new = x + dt v_half"):
                 np.stack((x + dt * (v + dt * a), v + dt * a)),
             "the new acceleration needs the new state (x_new, v_half): you passed the OLD "
@@ -142,10 +142,10 @@ def velocity_verlet_step(ck: Checker, step) -> None:
 
     _one_step(ck, step, velocity_verlet, mistakes, times_wanted=(0, 1), tells=[
         (lambda a, e, y, dt: _same(a[1], e[1]),
-         ("your velocities are right and your positions are not: the drift uses the half-step "
+         escalate("your velocities are right and your positions are not: the drift uses the half-step "
           "velocity", "x_new = x + dt v_half, v_half = v + dt/2 a")),
         (lambda a, e, y, dt: _same(a[0], e[0]),
-         ("your positions are right and your velocities are not: look at the second half kick",
+         escalate("your positions are right and your velocities are not: look at the second half kick",
           "v_new = v_half + dt/2 f(t + dt, (x_new, v_half))[1]"))])
 
 
@@ -244,7 +244,7 @@ def _order_mistakes(coarse, middle, fine, p, err) -> tuple[dict, dict]:
         "(np.linalg.norm), as the exercise says, not the largest entry": p_max,
     }
     errors = {
-        ("|y_h/2 - y_h/4| is the error of y_h/2 minus that of y_h/4, not the finest run's "
+        escalate("|y_h/2 - y_h/4| is the error of y_h/2 minus that of y_h/4, not the finest run's "
          "own error", "divide it by 2^p - 1"): d2,
         "|y_h - y_h/2| / (2^p - 1) is the error of the MIDDLE run; the finest run's is 2^p "
         "times smaller": d2 * ratio / (ratio - 1.0),

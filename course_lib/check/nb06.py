@@ -16,7 +16,7 @@ from ..integrators import integrate
 from ..systems import newtonian, stack_state
 from . import Checker, exercise
 from ._answers import call_analysis, one_number
-from .tolerance import blown_up, precision_rtol
+from .tolerance import blown_up, escalate, precision_rtol
 
 
 def _drag_cases():
@@ -64,7 +64,11 @@ def terminal_speed(ck: Checker, speed) -> None:
                        (1.0, 9.81, 0.5, 1e-12)]:
         what = f"m = {m} kg, g = {g} m/s², b = {b} kg/s, c = {c} kg/m"
         ok, got = call_analysis(ck, what, FORMULA_LINES, SIMULATED, speed, m, g, b, c)
-        if not ok or blown_up(ck, got, what, run=False, hint=(
+        if not ok:
+            if "lines of Python" in ck.failed[-1]:
+                break                   # a simulation: one case says it, the rest would repeat
+            continue
+        if blown_up(ck, got, what, run=False, hint=escalate(
                 "with c = 0 (or b = 0) your formula divides by zero: rewrite the root so that "
                 "neither b nor c is in a denominator",
                 "multiply (-b + √(b² + 4 c m g)) / (2 c) by its conjugate: 2 m g / (b + √(b² "
@@ -80,7 +84,7 @@ def terminal_speed(ck: Checker, speed) -> None:
                 "the other root of c v² + b v - m g = 0 is negative: take the positive one":
                     -(b + disc) / (2 * c) if c else np.nan,
                 "you forgot the mass: the weight is m g": 2 * g / (b + np.sqrt(b * b + 4 * c * g)),
-                ("with c this small, -b + √(b² + 4 c m g) subtracts two nearly equal numbers and "
+                escalate("with c this small, -b + √(b² + 4 c m g) subtracts two nearly equal numbers and "
                  "loses its digits", "rewrite the root without the subtraction: "
                  "2 m g / (b + √(b² + 4 c m g))"): (-b + disc) / (2 * c) if c else np.nan,
             }
@@ -103,7 +107,11 @@ def circular_speed(ck: Checker, speed) -> None:
         ok, got = call_analysis(ck, what, FORMULA_LINES, SIMULATED.replace("from the force "
                                 "balance", "from the balance of forces on the orbit"),
                                 speed, G, M, r)
-        if not ok or blown_up(ck, got, what, run=False):
+        if not ok:
+            if "lines of Python" in ck.failed[-1]:
+                break                   # a simulation: one case says it, the rest would repeat
+            continue
+        if blown_up(ck, got, what, run=False):
             continue
         value = one_number(ck, what, got, "a speed")
         if value is None:
@@ -195,7 +203,7 @@ def nbody_force(ck: Checker, func) -> None:
         got = func(x.view(_Bodies), m.copy(), G, eps)
         if _Bodies.looped:
             ck.expect(False, what, "your function loops over the bodies one at a time",
-                      hint=("work on every pair at once with broadcasting, no loop over bodies",
+                      hint=escalate("work on every pair at once with broadcasting, no loop over bodies",
                             "r = x[:, None, :] - x[None, :, :] holds every pair at once, "
                             "shape (N, N, d)"))
             continue

@@ -14,7 +14,7 @@ from .. import springs
 from ..lessons import nb07_spring_runs as lesson
 from . import Checker, exercise
 from ._answers import call_analysis, one_number
-from .tolerance import blown_up, precision_rtol
+from .tolerance import blown_up, escalate, precision_rtol
 
 _RNG_SEED = 707
 
@@ -96,7 +96,11 @@ def damped_dt_max(ck: Checker, func) -> None:
         ok, got = call_analysis(ck, what, FORMULA_LINES, (
             "the exercise asks for the limit from the stability condition, a formula: your "
             "function searches for it by simulation"), func, k, m, c)
-        if not ok or blown_up(ck, got, what, run=False):
+        if not ok:
+            if "lines of Python" in ck.failed[-1]:
+                break                   # a simulation: one case says it, the rest would repeat
+            continue
+        if blown_up(ck, got, what, run=False):
             continue
         if one_number(ck, what, got, "a step in s") is None:
             continue
@@ -168,7 +172,7 @@ def network_forces(ck: Checker, func) -> None:
                    k.copy(), c.copy())
         if _Indices.looped:
             ck.expect(False, what, "your function loops over the springs one at a time",
-                      hint=("work on all springs at once: index the positions with the arrays "
+                      hint=escalate("work on all springs at once: index the positions with the arrays "
                             "i and j", "d = x[i] - x[j] gives every spring's vector; np.add.at "
                             "(or np.bincount) adds the forces onto particles"))
             continue

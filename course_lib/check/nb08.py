@@ -14,7 +14,7 @@ import numpy as np
 from .. import hair, springs, strands
 from . import Checker, exercise
 from ._answers import as_array, call_analysis
-from .tolerance import blown_up, precision_rtol
+from .tolerance import blown_up, escalate, precision_rtol
 
 
 def _rows(i, j, rest) -> np.ndarray:
@@ -135,7 +135,7 @@ def _omega_mistakes(K, mass, pinned, dim) -> dict:
     return {
         "the pinned particles cannot move: drop their rows and columns of K first":
             _top(K, mass, np.arange(n * dim), dim),
-        ("each particle owns d rows of K: particle p is rows p·d ... p·d + d - 1, so dropping "
+        escalate("each particle owns d rows of K: particle p is rows p·d ... p·d + d - 1, so dropping "
          "row p is not dropping particle p", "d = K.shape[0] // len(mass); the free rows are "
          "p·d + (0 ... d-1) for every particle p not pinned"): _top(K, mass, rows, dim),
         "pinned lists every pinned particle, in any order: you dropped particle 0 only":
@@ -163,6 +163,8 @@ def step_limit(ck: Checker, func) -> None:
             "the exercise asks for the limit from the matrix (its eigenvalues): your function "
             "searches for it by simulation"), func, K.copy(), mass.copy(), list(pinned), fps)
         if not ok:
+            if "lines of Python" in ck.failed[-1]:
+                break                   # a simulation: one case says it, the rest would repeat
             continue
         answer = as_array(got)
         if answer is None or answer.shape != (3,):

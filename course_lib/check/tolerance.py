@@ -4,7 +4,9 @@
   right answer computed in float32 (seven digits) is accepted while a wrong formula,
   off by a factor, is not.
 - :func:`blown_up`: report "your run blew up" (with the step) instead of printing a row
-  of ``nan`` as the answer.
+  of ``nan`` as the answer;
+- :func:`escalate`: a hint that names the mistake first and adds the fix after another
+  wrong attempt (:meth:`~course_lib.check.Checker.pick`).
 
 Check layer: imports NumPy and the shared :class:`~course_lib.check.Checker` only.
 """
@@ -57,3 +59,15 @@ def blown_up(ck: Checker, answer, what: str, *, run: bool = True, hint: str | No
               hint=hint or "a run that explodes usually has a sign error in the update, or "
                            "uses an acceleration or time from the wrong point of the step")
     return True
+
+
+def escalate(nudge: str, more: str) -> tuple[str, str]:
+    """A hint that escalates: ``nudge`` (the mistake, named) on the first wrong attempt;
+    after another one the same words followed by ``more`` (how to fix it), so that the
+    fuller hint still says what was wrong.
+
+    >>> escalate("a sign error", "F = -k x")[1]
+    'a sign error — F = -k x'
+    """
+    return nudge, f"{nudge} — {more}"
+
