@@ -296,6 +296,7 @@ def test_helix():
     assert np.allclose(vperp[1:] / vperp[:-1], np.sqrt(1 + 0.02**2), rtol=1e-13)
 
 
+@pytest.mark.roundoff
 def test_steering_in_the_wind():
     from scipy.optimize import brentq
 
