@@ -382,7 +382,7 @@ def test_every_ast_conversion_in_the_grader_takes_the_lock():
     mismatch" once broke a grading run here). Every ``ast.parse`` and every ``compile`` of an
     AST in a module the grader's threads use must sit inside ``with AST_LOCK``."""
     threaded = ["scan", "kit", "grade", "verdicts", "submissions", "feedback", "report",
-                "recorder", "policy", "codec", "sandbox", "journal", "cluster"]
+                "recorder", "policy", "codec", "sandbox", "journal", "cluster", "task"]
     unguarded = []
     for name in threaded:
         path = ROOT / "course_lib" / "instructor" / f"{name}.py"

@@ -59,6 +59,7 @@ def _more_parsers(sub) -> None:
     p.add_argument("--format", choices=["mp4", "gif"], default="mp4")
     p.add_argument("--dpi", type=float, default=None, help="default: each figure's own")
     p.add_argument("--list", action="store_true", help="list the showcases and exit")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def main(argv: list[str] | None = None) -> int:

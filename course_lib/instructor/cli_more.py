@@ -58,6 +58,7 @@ def _clips(args) -> int:
         for number, entry in showcases().items():
             print(f"{number}  {entry.name:28s} {entry.module}.{entry.function}")
         return 0
-    for path in render_showcases(Path(args.out), only=args.only, fmt=args.format, dpi=args.dpi):
+    for path in render_showcases(Path(args.out), only=args.only, fmt=args.format, dpi=args.dpi,
+                                 progress=not args.no_progress):
         print(f"wrote {path}")
     return 0

@@ -36,9 +36,9 @@ import uuid
 from collections.abc import Iterator
 from pathlib import Path
 
-from .grade import Task, _rows, grade_task
 from .journal import grading_modules, lean_run, library_files
 from .sandbox import Limits, Run, Runtime
+from .task import Task, _rows, grade_task
 from .verdicts import Row
 
 #: Tasks kept in flight per worker thread of the cluster (the rest wait on the client).
