@@ -139,3 +139,9 @@ test-browser: $(STAMP)
 	@mkdir -p build
 	@$(STAGE) run browser -- $(PYTEST) -n $(JOBS) --dist loadgroup tests/browser -p no:cacheprovider \
 		--basetemp=build/browser-tmp
+
+# Each notebook's showcase animation as an MP4 clip in clips/ (git-ignored), with the ffmpeg
+# of imageio-ffmpeg; e.g. CLIPS_ARGS="--only 08 13 --format gif", or "--list".
+.PHONY: clips
+clips: $(STAMP)
+	$(BIN)/python -m course_lib.instructor clips clips $(CLIPS_ARGS)

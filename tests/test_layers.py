@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "course_lib"
-VIEW = {"plotting", "widgets", "players"}
+VIEW = {"plotting", "widgets", "players", "clips"}
 RANK = {"core": 0, "view": 1, "lessons": 2, "check": 3, "instructor": 4}
 #: Third-party packages that belong to views, never to the core.
 VIEW_PACKAGES = {"matplotlib", "ipywidgets", "IPython"}
