@@ -104,6 +104,7 @@ def test_forbid_reaches_outside_the_library_in_python_and_in_c():
     by_quadrature = answer("def area():\n    import scipy.integrate as si\n"
                            "    return si.quad(lambda x: x, 0, 1)[0]", "area")
     by_hand = answer("def area():\n    x = np.linspace(0, 1, 3)\n    return np.trapezoid(x, x)", "area")
+
     assert "scipy.integrate" in evaluate(area, simulated)["reference"]
     # the message names what was refused instead of saying SciPy is fine
     assert "this exercise refuses scipy.integrate" in evaluate(area, simulated)["reference"]
@@ -112,6 +113,19 @@ def test_forbid_reaches_outside_the_library_in_python_and_in_c():
     assert "scipy.integrate" in evaluate(area, by_quadrature)["reference"]
     assert evaluate(area, by_hand)["status"] == "correct"
 
+
+def test_a_refused_c_class_imported_inside_the_function_is_seen():
+    @exercise(forbid=("scipy.spatial",))
+    def close_pairs(ck: Checker, fn) -> None:
+        ck.close(fn(np.array([[0.0, 0.0], [0.5, 0.0], [3.0, 0.0]]), 1.0), 1, "pairs closer than 1")
+
+    # cKDTree is a C class: calling it makes no Python call for the watch to see
+    inside = answer("def close_pairs(x, r):\n    from scipy.spatial import cKDTree\n"
+                    "    return len(cKDTree(x).query_pairs(r))", "close_pairs")
+    assert "scipy.spatial.cKDTree" in evaluate(close_pairs, inside)["reference"]
+    by_hand = answer("def close_pairs(x, r):\n    d = np.linalg.norm(x[:, None] - x[None], axis=-1)\n"
+                     "    return int(np.triu(d < r, 1).sum())", "close_pairs")
+    assert evaluate(close_pairs, by_hand)["status"] == "correct"
 
 def test_the_library_itself_is_still_verified_and_the_hook_is_restored():
     before = sys.getprofile()

@@ -189,6 +189,14 @@ def references_in_code(code: types.CodeType, resolve: Callable[[str, str], objec
     rules = exercise_rules(check)
     found: list[str] = []
     for kind, head, attrs in name_chains(code):
+        if kind == "path" and rules["prefixes"] and f"{head}.".startswith(
+                tuple(p.rstrip(".") + "." for p in rules["prefixes"])):
+            # an import inside the function of a refused module (a C class such as cKDTree is
+            # invisible to the run-time watch, so the import itself is what counts)
+            name = ".".join((head, *attrs))
+            if name not in found:
+                found.append(name)
+            continue
         obj = import_path(head) if kind == "path" else resolve(kind, head)
         if obj is None:
             continue
