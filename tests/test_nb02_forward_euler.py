@@ -629,3 +629,14 @@ def test_the_budget_reads_the_same_in_the_grader():
     text = "\n".join(result["failed_cases"])
     assert result["status"] == "incorrect" and "analysis of Section 3" in text
     assert "raised" not in text
+
+
+def test_the_spiral_explorer_takes_its_sliders_ends():
+    from course_lib.lessons import nb02_forward_euler as lesson
+
+    # a FloatLogSlider at an end holds 10**log10(end), one rounding below or above it
+    lo, hi = lesson.SPIRAL_DT_RANGE
+    for end in (10 ** np.log10(lo), 10 ** np.log10(hi)):
+        assert lesson.spiral_experiment(end) is not None
+    with pytest.raises(ValueError, match="dt"):
+        lesson.spiral_experiment(hi * 2)

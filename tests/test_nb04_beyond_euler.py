@@ -777,3 +777,14 @@ def test_todays_default_is_an_embedded_pair():
     assert inspect.signature(solve_ivp).parameters["method"].default == "RK45"
     assert RK45.order == 5 and RK45.error_estimator_order == 4
     assert DOP853.order == 8
+
+
+def test_the_follower_explorer_takes_its_sliders_ends():
+    from course_lib.lessons import nb04_beyond_euler as lesson
+
+    # a FloatLogSlider at an end holds 10**log10(end), one rounding below or above it
+    lo, hi = lesson.KAPPA_DT_RANGE
+    for end in (10 ** np.log10(lo), 10 ** np.log10(hi)):
+        assert lesson.follower_experiment(end) is not None
+    with pytest.raises(ValueError, match="kappa_dt"):
+        lesson.follower_experiment(lo / 2)

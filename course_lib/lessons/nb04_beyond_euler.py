@@ -133,7 +133,11 @@ class FollowerResult:
 def follower_experiment(kappa_dt: float, steps: int = 40, kappa: float = KAPPA) -> FollowerResult:
     """Every method of :data:`FOLLOWER_METHODS` for ``steps`` steps of ``dt = κ dt / κ`` on
     the follower from the origin (pure; what the follower explorer draws)."""
-    if not KAPPA_DT_RANGE[0] <= kappa_dt <= KAPPA_DT_RANGE[1]:
+    # a log slider's ends come back as 10**log10(end), a rounding off the end itself
+    lo, hi = KAPPA_DT_RANGE
+    if lo * (1 - 1e-9) <= kappa_dt <= hi * (1 + 1e-9):
+        kappa_dt = min(max(kappa_dt, lo), hi)
+    else:
         raise ValueError(f"kappa_dt must lie in {KAPPA_DT_RANGE}, got {kappa_dt!r}")
     f, jac, exact = follower(kappa)
     dt = kappa_dt / kappa
