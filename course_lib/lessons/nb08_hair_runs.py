@@ -59,8 +59,9 @@ def _held_limit(k_bend: float, zigzag: float) -> float:
 
 
 def tip_sag(k_bend: float = 0.0, zigzag: float = 0.0) -> float:
-    """How far (m) the tip of the held-out :data:`STRAND` drops at equilibrium under
-    gravity (root clamped: particles 0 and 1 pinned)."""
+    """How far (m) the tip of the held-out :data:`STRAND` drops at its equilibrium under
+    gravity in its own plane (root clamped: particles 0 and 1 pinned). In 3D a zigzag's
+    in-plane equilibrium is a saddle (:func:`saddle_escape`)."""
     x0, _ = held_strand(k_bend, zigzag)
     return float(x0[-1, 1] - _held_equilibrium(float(k_bend), float(zigzag))[-1, 1])
 
@@ -115,7 +116,7 @@ class HeldStrandRun:
     t: np.ndarray             #: snapshot times (s), shape (F,)
     frames: np.ndarray        #: strand at the snapshots (m), shape (F, 16, 3)
     tip_y: np.ndarray         #: tip height at every step (m); NaN after a blow-up
-    equilibrium: np.ndarray   #: the static equilibrium it should settle to (m)
+    equilibrium: np.ndarray   #: the in-plane equilibrium it should settle to (m)
     stable: bool
     message: str
     dt_limit: float           #: 2 / ω_max of the strand at rest (s)
@@ -128,9 +129,11 @@ class HeldStrandRun:
 def run_held_strand(k_bend: float = 2000.0, damping: float = 2e-3, dt: float = 1e-4,
                     zigzag: float = 0.3, t_end: float = 0.5, n_frames: int = 6,
                     max_steps: int | None = None) -> HeldStrandRun:
-    """Release a held-out strand (clamped root) under gravity with symplectic Euler.
+    """Release a held-out strand (clamped root) under gravity with symplectic Euler, in its
+    plane: every force of a strand laid out in the x-y plane stays in it, so the run is the
+    2D strand.
 
-    Returns the strand at ``n_frames`` times, the tip height at every step, the static
+    Returns the strand at ``n_frames`` times, the tip height at every step, the in-plane
     equilibrium it should settle to, the verdict, and the step limit ``2 / ω_max``. With
     ``max_steps`` the run stops after that many steps (``t_end`` shortened to
     ``max_steps · dt``, said in ``params["t_shown"]``): the widget's cap. Pure and cached
