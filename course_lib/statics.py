@@ -116,7 +116,12 @@ def model_step(lam, V, grad, radius: float) -> tuple[np.ndarray, bool]:
     bottom = lam - lam[0] <= tiny
     p = np.where(bottom, 0.0, -c / np.where(bottom, 1.0, lam + shift))
     low = int(np.flatnonzero(bottom)[0])
-    p[low] = -np.copysign(np.sqrt(max(radius**2 - p @ p, 0.0)), c[low])
+    length = np.sqrt(max(radius**2 - p @ p, 0.0))
+    if c[low] != 0.0:
+        p[low] = -np.copysign(length, c[low])
+    else:   # no gradient to follow: a sign of our own, not the eigen-solver's (machine-free)
+        v = V[:, low]
+        p[low] = length if v[np.argmax(np.abs(v))] >= 0 else -length
     return V @ p, bool(lam[0] < -tiny)
 
 
