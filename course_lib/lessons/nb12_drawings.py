@@ -197,10 +197,10 @@ class FramePlot:
         self.bars = self.bar_ax.bar([0, 1], [1.0, 1.0], color=["C2", "0.5"])
         self.bar_ax.set_xticks([0, 1], labels=["this frame", "converged"])
         self.bar_ax.grid(False)
-        self.bar_ax.set(yscale="log", ylim=(0.05, 1000.0), ylabel="peak structural strain (%)")
-        self.bar_ax.yaxis.set_major_locator(FixedLocator([0.1, 1, 10, 100, 1000]))
+        self.bar_ax.set(yscale="log", ylim=(0.005, 1000.0), ylabel="peak structural strain (%)")
+        self.bar_ax.yaxis.set_major_locator(FixedLocator([0.01, 0.1, 1, 10, 100, 1000]))
         self.bar_ax.yaxis.set_minor_locator(NullLocator())
-        self.bar_ax.set_yticklabels(["0.1", "1", "10", "100", "1000"])
+        self.bar_ax.set_yticklabels(["0.01", "0.1", "1", "10", "100", "1000"])
         self.title = self.fig.suptitle("", fontsize=10)
 
     def __call__(self, result):
@@ -221,7 +221,7 @@ class FramePlot:
             self.dots.set_offsets(np.empty((0, 2)))
             self.dots.set_array(np.empty(0))
         peak = 100 * result.peak if result.stable else 1000.0
-        self.bars[0].set_height(max(peak, 0.05))
+        self.bars[0].set_height(max(peak, 0.005))
         self.bars[0].set_color(COLORS[result.params["method"]] if result.stable else "C3")
         self.bars[1].set_height(100 * result.reference_peak)
         p = result.params
