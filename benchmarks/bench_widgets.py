@@ -34,6 +34,7 @@ WIDGETS = [
     ("05 energy explorer", "nb05", "energy_explorer"),
     ("07 spring widget", "nb07", "spring_explorer"),
     ("08 hair widget", "nb08", "held_strand_explorer"),
+    ("12 large-step cloth widget (32²)", "nb12", "frame_explorer"),
 ]
 
 
@@ -63,6 +64,8 @@ def option_values(control) -> list:
 def nudge(control):
     """A value next to the control's current one (so that setting it is a real change)."""
     lo, hi, value = control.min, control.max, control.value
+    if isinstance(value, int):                            # an IntSlider: one notch
+        return value + 1 if value < hi else value - 1
     if hasattr(control, "base"):                          # log slider: min/max are exponents
         lo, hi = control.base**lo, control.base**hi
     step = 1.01 if value * 1.01 <= hi else 0.99
