@@ -8,6 +8,7 @@ to round-off; a second-order error halves its step and quarters.
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
+from scipy.special import ellipk
 
 from course_lib import rigid
 from course_lib.integrators import BlowUpError
@@ -57,6 +58,7 @@ def test_explicit_step_length_growth_and_cayley_angle():
     raw = q + 0.5 * dt * quat.multiply(np.r_[0.0, omega], q)
     w = np.linalg.norm(omega)
     assert np.linalg.norm(raw) == pytest.approx(np.sqrt(1 + (w * dt) ** 2 / 4), rel=4 * EPS)
+    assert np.allclose(quat.step(q, omega, dt, renormalise=False), raw, rtol=0, atol=4 * EPS)
     stepped = quat.step(q, omega, dt)
     turn = quat.multiply(stepped, quat.conjugate(q))
     assert np.allclose(turn, quat.from_axis_angle(omega, 2 * np.arctan(w * dt / 2)), atol=1e-15)
@@ -198,15 +200,67 @@ def test_scalar_path_matches_the_vectorized_step(method):
         assert np.allclose(qs, qb[k], atol=64 * EPS) and np.allclose(Ls, Lb[k], atol=64 * EPS * 3)
 
 
-def test_exact_solution_against_dop853():
-    for trial in range(6):
-        moments = RNG.uniform(1.0, 2.0, 3)
-        w0 = RNG.normal(size=3)
-        T = exact.period(moments, w0)
-        t = np.linspace(0, 1.7 * T, 40)
-        sol = solve_ivp(lambda t, w, mom=moments: np.cross(mom * w, w) / mom, (0, t[-1]), w0,
-                        method="DOP853", rtol=1e-12, atol=1e-12, t_eval=t)
-        assert np.abs(exact.omega(moments, w0, t) - sol.y.T).max() < 1e-8 * np.abs(w0).max(), trial
+def _dop853(moments, w0, t):
+    sol = solve_ivp(lambda t, w, mom=moments: np.cross(mom * w, w) / mom, (0, t[-1]), w0,
+                    method="DOP853", rtol=1e-12, atol=1e-12, t_eval=t)
+    return sol.y.T
+
+
+@pytest.mark.parametrize("circles", ["smallest", "largest"])
+def test_exact_solution_against_dop853(circles):
+    """Both cases (|L|² below and above 2EI₂), moments in every order (right- and
+    left-handed relabellings): the elliptic formulas against DOP853 at rtol 1e-12; each
+    amplitude is the largest |Ω_i| of the run, the dn component never changes sign and
+    its smallest value is A √(1 − m)."""
+    rng = np.random.default_rng(1402 if circles == "smallest" else 1403)
+    done = 0
+    while done < 5:
+        moments, w0 = rng.uniform(1.0, 2.0, 3), rng.normal(size=3)
+        p = exact.parameters(moments, w0)
+        if p["circles"] != circles:
+            continue
+        done += 1
+        t = np.linspace(0, 1.7 * p["period"], 400)
+        ref = _dop853(moments, w0, t)
+        assert np.abs(exact.omega(moments, w0, t) - ref).max() < 1e-8 * np.abs(w0).max()
+        dn = p["functions"].index("dn")
+        assert p["functions"][p["order"][0 if circles == "smallest" else 2]] == "dn"
+        assert np.all(np.sign(ref[:, dn]) == np.sign(p["amplitudes"][dn]))
+        # 400 samples over 1.7 periods land within (2π/400)² of each extreme (relative)
+        assert np.abs(ref).max(axis=0) == pytest.approx(np.abs(p["amplitudes"]), rel=1e-3)
+        least = abs(p["amplitudes"][dn]) * np.sqrt(1 - p["m"])
+        assert np.abs(ref[:, dn]).min() == pytest.approx(least, rel=1e-3)
+        assert (p["D"] < 0) == (circles == "smallest")
+
+
+def test_the_notebooks_flip_is_the_smallest_axis_case():
+    """The box nudged about x: |L|² − 2EI₂ = I₁Ω₁²(I₁ − I₂) < 0, so Ω = (A₁ dn, A₂ sn, A₃ cn)
+    with the amplitudes of the notebook's formulas, τ₀ = K(m), and DOP853 agrees."""
+    moments, w0 = inertia.box_moments(0.3, (0.2, 0.1, 0.05)), np.array([0.1, 10.0, 0.0])
+    p = exact.parameters(moments, w0)
+    I1, I2, I3 = moments
+    assert p["D"] == pytest.approx(I1 * 0.1**2 * (I1 - I2), rel=1e-12) and p["D"] < 0
+    assert p["functions"] == ("dn", "sn", "cn") and p["circles"] == "smallest"
+    L2, E2 = np.sum((moments * w0) ** 2), np.sum(moments * w0**2)
+    A = np.sqrt([(E2 * I3 - L2) / (I1 * (I3 - I1)), (L2 - E2 * I1) / (I2 * (I2 - I1)),
+                 (L2 - E2 * I1) / (I3 * (I3 - I1))])
+    assert np.allclose(p["amplitudes"], A, rtol=1e-9)
+    assert p["amplitudes"][1] == pytest.approx(10.0, rel=1e-12)                 # Ω_y starts at its peak
+    assert p["amplitudes"][0] * np.sqrt(1 - p["m"]) == pytest.approx(0.1, rel=1e-9)  # and Ω_x at its least
+    assert p["tau0"] == pytest.approx(ellipk(p["m"]), rel=1e-12) and p["rate"] > 0
+    t = np.linspace(0, 8.0, 801)
+    assert np.abs(exact.omega(moments, w0, t) - _dop853(moments, w0, t)).max() < 1e-8
+    # the formulas printed for the other case give m > 1 here: K(m) has no real value
+    m_other = (I2 - I1) * (E2 * I3 - L2) / ((I3 - I2) * (L2 - E2 * I1))
+    assert m_other > 1
+
+
+def test_spin_about_a_principal_axis():
+    """m = 0: Ω stays put; the period is that of small wobbles about the axis."""
+    for w0 in ([2.0, 0.0, 0.0], [0.0, 0.0, -3.0]):
+        t = np.linspace(0.0, 5.0, 6)
+        assert np.allclose(exact.omega(MOMENTS, w0, t), np.array(w0)[None], atol=1e-15)
+        assert exact.parameters(MOMENTS, w0)["m"] == 0.0
 
 
 def test_exact_refuses_the_separatrix_and_equal_moments():

@@ -195,17 +195,20 @@ def draw_flip(t, omega, exact_omega, label: str):
 
 
 def draw_period_errors(study: dict):
-    """|measured period / exact − 1| against steps per period, with slopes 2 and 4."""
+    """|measured period / exact − 1| against steps per period, with 1/N² and 1/N⁴ guides."""
     fig, ax = plt.subplots(figsize=(6.5, 3.8), constrained_layout=True)
     n = study["steps"]
     for method in ("implicit_midpoint", "splitting", "rk4"):
         ax.loglog(n, np.abs(study[method]), "o-", color=COLORS[method],
                   label=f"{LABELS[method]} (slope {study[method + '_order']:.2f})")
-    for order, err in ((2, study["splitting"][0]), (4, study["rk4"][0])):
-        ax.loglog(n, err * (n / n[0]) ** -order, ":", color="0.5", lw=1)
-        ax.annotate(f"∝ 1/N^{order}", (n[-1], err * (n[-1] / n[0]) ** -order), fontsize=8,
-                    xytext=(4, 0), textcoords="offset points")
+    # guides a little below the last (asymptotic) point of a method of each order
+    for order, method in ((2, "implicit_midpoint"), (4, "rk4")):
+        guide = 0.3 * abs(study[method][-1]) * (n / n[-1]) ** -order
+        ax.loglog(n, guide, "--", color="0.45", lw=1.0)
+        ax.annotate(f"∝ 1/N{'²' if order == 2 else '⁴'}", (n[-1], guide[-1]), fontsize=9, color="0.3",
+                    xytext=(6, -3), textcoords="offset points")
     ax.set_xticks(n, labels=[str(k) for k in n])
+    ax.set_xlim(n[0] * 0.85, n[-1] * 1.35)
     ax.minorticks_off()
     ax.set(xlabel="steps per period N", ylabel="|T_measured / T_exact − 1|",
            title="flip period against the elliptic-integral value")
@@ -233,14 +236,18 @@ def draw_rolling(r: dict):
     return fig
 
 
-def draw_drop(run, e: dict):
-    """Height of the dropped box's centre and its energies against time."""
+def draw_drop(run, e: dict, rest_height: float, rest_energy: float):
+    """Height of the dropped box's centre and its energies against time, with the height
+    (m) and the energy (J) of the box at rest on its largest face (dashed)."""
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.6), constrained_layout=True)
-    a1.plot(run.t, run.x[:, 0, 1], color="C0")
+    a1.plot(run.t, run.x[:, 0, 1], color="C0", label="simulated")
+    a1.axhline(rest_height, **{**EXACT_STYLE, "linewidth": 1.0}, label="at rest on its largest face")
     a1.set(xlabel="t (s)", ylabel="height of the centre (m)", title="the box bounces and settles")
+    a1.legend(fontsize=8)
     for key, color in (("kinetic", "C1"), ("potential", "C2"), ("total", "k")):
         a2.plot(run.t, e[key], color=color, label=key)
-    a2.set(xlabel="t (s)", ylabel="energy (J)", title="energy only decreases at impacts")
+    a2.axhline(rest_energy, **{**EXACT_STYLE, "linewidth": 1.0}, label="m g × rest height")
+    a2.set(xlabel="t (s)", ylabel="energy (J)", title="energy: lost at impacts, nearly kept in flight")
     a2.legend(fontsize=8)
     return fig
 

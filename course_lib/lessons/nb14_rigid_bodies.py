@@ -3,10 +3,12 @@
 Holds the spinning box of the flip (:data:`SPIN`, :func:`spin_moments`, :func:`flip`), the
 invariant drift of every method (:func:`drift_table`) and the period study
 (:func:`period_errors`); contact scenes: a sphere sliding into rolling
-(:func:`rolling_sphere`) and boxes dropped on the ground (:func:`bouncing_box`,
-:func:`settle_ensemble`); magnets: spherical NdFeB magnets that snap together
-(:func:`magnet_scene`, :func:`alignment`); and :func:`showcase_animation`, the clip of the
-course project. Built on :mod:`course_lib.rigid`; the drawings are in
+(:func:`rolling_sphere`, and written out step by step around any friction impulse,
+:func:`slide_to_roll`, which the check of Exercise 5 runs) and boxes dropped on the ground
+(:func:`bouncing_box`, :func:`settle_ensemble`); magnets: spherical NdFeB magnets that
+snap together (:func:`magnet_scene`, :func:`alignment`) and rock in contact
+(:func:`rocking_period`, :func:`single_ball_rocking`); and :func:`showcase_animation`, the
+clip of the course project. Built on :mod:`course_lib.rigid`; the drawings are in
 :mod:`course_lib.lessons.nb14_drawings`. The core never imports this module.
 """
 
@@ -68,16 +70,19 @@ def drift_table(dt: float = DRIFT_DT, t_end: float = DRIFT_T) -> dict:
 def period_errors(steps_per_period=(25, 50, 100, 200),
                   methods=("implicit_midpoint", "splitting", "rk4"), periods: float = 2.2) -> dict:
     """Relative error of the measured flip period against ``4K(m)/λ`` for each method and
-    number of steps per period; ``"order"`` holds the slope of the last two halvings."""
+    number of steps per period; ``method + "_order"`` holds the slope of the last two
+    halvings, ``method + "_energy"`` the largest ``|E/E₀ − 1|`` of each run."""
     T = exact.period(spin_moments(), SPIN["omega0"])
     out = {"T": T, "steps": np.array(steps_per_period)}
     for method in methods:
-        errors = []
+        errors, energy = [], []
         for n in steps_per_period:
             t, omega, _ = flip(method, T / n, periods * T)
             errors.append(exact.measured_period(t, omega, 1) / T - 1.0)
+            E = invariants(omega)[1]
+            energy.append(float(np.abs(E / E[0] - 1.0).max()))
         errors = np.array(errors)
-        out[method] = errors
+        out[method], out[method + "_energy"] = errors, np.array(energy)
         out[method + "_order"] = float(np.log2(abs(errors[-2] / errors[-1])))
     return out
 
@@ -104,6 +109,34 @@ def rolling_sphere(**changes) -> dict:
     rolling = np.flatnonzero(v - rim <= 1e-9 * v0)
     return {"t": run.t, "v": v, "rim": rim, "height": run.x[:, 0, 1] - R, "t_roll": t_roll,
             "v_roll": 5.0 / 7.0 * v0, "k_roll": int(rolling[0]), "dt": dt, "v0": v0, "mu": mu}
+
+
+def slide_to_roll(friction=contact.friction_impulse, **changes) -> dict:
+    """:func:`rolling_sphere` written out for one ball: each step gravity, the normal impulse
+    that stops the approach (``e = 0``), then ``friction(mass, inv_inertia, r, normal, v,
+    omega, j_n, mu) -> J_t`` (N s, (3,)) at the lowest point. Returns the centre speed
+    ``v``, the rim speed ``ωR`` per step, and ``k_roll``, the first step without slip."""
+    p = {**ROLL, **changes}
+    m, R, v0, mu, dt = p["mass"], p["radius"], p["v0"], p["mu"], p["dt"]
+    inv_I = np.eye(3) / (0.4 * m * R * R)
+    r, n = np.array([0.0, -R, 0.0]), np.array([0.0, 1.0, 0.0])
+    v, w = np.array([v0, 0.0, 0.0]), np.zeros(3)
+    steps = int(np.ceil(4.0 * v0 / (7.0 * mu * G * dt)))
+    speed, rim = np.empty(steps + 1), np.empty(steps + 1)
+    speed[0], rim[0] = v0, 0.0
+    with np.errstate(all="ignore"):                   # a wrong answer's NaN is judged, not warned
+        for k in range(1, steps + 1):
+            v[1] -= G * dt
+            j_n = max(-m * float(v @ n), 0.0)
+            v = v + j_n / m * n
+            J = np.asarray(friction(m, inv_I.copy(), r.copy(), n.copy(), v.copy(), w.copy(), j_n, mu),
+                           dtype=float)
+            v, w = v + J / m, w + inv_I @ np.cross(r, J)
+            speed[k], rim[k] = v[0], -w[2] * R
+    rolling = np.flatnonzero(speed - rim <= 1e-9 * v0)
+    return {"t": dt * np.arange(steps + 1), "v": speed, "rim": rim, "v0": v0, "mu": mu,
+            "k_roll": int(rolling[0]) if len(rolling) else -1, "v_roll": 5.0 / 7.0 * v0,
+            "t_roll": 2.0 * v0 / (7.0 * mu * G)}
 
 
 def drop_box(seed: int, t_end: float = 2.5, every: int = 4, **changes):
@@ -192,6 +225,35 @@ def alignment(run) -> dict:
     angles = np.degrees(np.arccos(np.clip(np.abs(np.sum(m * line[:, None], axis=2)) / size, 0, 1)))
     return {"distance": dist / (2.0 * MAGNET["radius"]), "angles": angles,
             "parallel": np.sum(m[:, 0] * m[:, 1], axis=1) / size**2}
+
+
+def rocking_period(run, after: float = 0.002) -> float:
+    """Period (s) at which two touching magnets rock about head to tail, from ``after`` (s)
+    past their first contact: the part of the first dipole's direction across the line of
+    centres, along the direction it swings most (its principal axis), changes sign twice per
+    period (median spacing of the sign changes)."""
+    align = alignment(run)
+    start = int(np.argmax(align["distance"] < 1.001)) + int(np.ceil(after / (run.t[1] - run.t[0])))
+    m = quat.rotate(run.q[start:, 0], run.bodies.dipole[0])
+    d = run.x[start:, 1] - run.x[start:, 0]
+    line = d / np.linalg.norm(d, axis=1)[:, None]
+    across = m - np.sum(m * line, axis=1)[:, None] * line
+    across -= across.mean(axis=0)
+    swing = np.linalg.eigh(across.T @ across)[1][:, -1]
+    times = exact.crossings(run.t[start:], across @ swing)
+    if len(times) < 3:
+        raise ValueError("the run has too few swings after contact: run it longer or sample it more finely")
+    return 2.0 * float(np.median(np.diff(times)))
+
+
+def single_ball_rocking() -> float:
+    """Period (s) of one ball turning in the field of a fixed neighbour touching it, head to
+    tail: stiffness ``m B`` with ``B = μ₀ m / (2π (2R)³)``, inertia ``2/5 M R²``."""
+    R, p = MAGNET["radius"], MAGNET
+    m = magnets.sphere_moment(R, p["remanence"])
+    B = magnets.MU0 * m / (2.0 * np.pi * (2.0 * R) ** 3)
+    inertia_ball = 0.4 * p["density"] * 4.0 / 3.0 * np.pi * R**3 * R**2
+    return 2.0 * np.pi * float(np.sqrt(inertia_ball / (m * B)))
 
 
 def showcase_animation():

@@ -3,7 +3,7 @@
 The methods are those of :func:`course_lib.rigid.free.rotate` (see
 :mod:`course_lib.rigid.free`), written out for a single body on 3- and 4-tuples of
 floats: NumPy's per-call overhead (microseconds) dwarfs arithmetic on three numbers, and a
-spin is a loop over time steps that cannot be vectorized. ``tests/test_rigid_free.py``
+spin is a loop over time steps that cannot be vectorized. ``tests/test_rigid_core.py``
 checks every method here against the vectorized version. Imports only :mod:`math`.
 """
 

@@ -9,8 +9,9 @@ normal ``n`` changes the body's velocity there by an impulse ``J``: ``Δv = J/m`
 
 (plus the other body's terms in a two-body contact). Newton's law of restitution asks for
 ``u_n' = −e u_n``, so the normal impulse is ``j = −(1 + e) u_n / K_n`` (Baraff 2001;
-Mirtich 1996). Coulomb friction caps the tangential impulse at ``μ j``: it stops the
-sliding if it can, else it takes ``μ j`` against the slip.
+Mirtich 1996; :func:`normal_impulse`). Coulomb friction caps the tangential impulse at
+``μ j``: it stops the sliding if it can, else it takes ``μ j`` against the slip
+(:func:`friction_impulse`).
 
 Several simultaneous contacts are resolved by *sequential impulses* (Gauss–Seidel over the
 contact points, clamping the accumulated impulse at zero and the friction to its cone;
@@ -45,6 +46,24 @@ def normal_impulse(mass, inv_inertia, r, normal, v, omega, restitution: float):
     rn = cross(r, n)
     k_n = 1.0 / np.asarray(mass, float) + np.einsum("...i,...ij,...j->...", rn, inv_inertia, rn)
     return np.where(u_n < 0, -(1.0 + restitution) * u_n / k_n, 0.0)
+
+
+def friction_impulse(mass, inv_inertia, r, normal, v, omega, j_n, mu: float) -> np.ndarray:
+    """Coulomb friction impulse ``J_t`` (N s, (3,)) at one contact, after its normal impulse
+    ``j_n`` (N s): the contact point slides with ``u_t = u − (u·n) n``, ``u = v + ω × r``;
+    the impulse ``−|u_t| / K_t`` along ``t = u_t/|u_t|``, with ``K_t = 1/m + t·((I⁻¹(r × t)) × r)``,
+    stops it, if that takes at most ``μ j_n``; else friction takes ``μ j_n`` against the
+    slip. Zero when the point does not slide. Arguments as in :func:`normal_impulse`."""
+    r, n = np.asarray(r, float), np.asarray(normal, float)
+    u = np.asarray(v, float) + np.cross(omega, r)
+    u_t = u - (u @ n) * n
+    speed = float(np.linalg.norm(u_t))
+    if speed == 0.0:
+        return np.zeros(3)
+    t = u_t / speed
+    rt = np.cross(r, t)
+    k_t = 1.0 / mass + rt @ np.asarray(inv_inertia, float) @ rt
+    return -min(speed / k_t, mu * j_n) * t
 
 
 def _coefficients(restitution, friction, iterations, rest_speed):

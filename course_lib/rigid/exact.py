@@ -1,22 +1,27 @@
 """The exact torque-free spin of a rigid body: Euler's equations by Jacobi elliptic functions.
 
 Order the principal moments ``I1 < I2 < I3``; ``E`` is the kinetic energy and ``M = |L|``.
-The body's angular velocity stays on the intersection of the energy ellipsoid and the
-momentum sphere. When ``M² > 2 E I2`` it circles the axis of ``I3``:
+The body angular velocity stays on the intersection of the energy ellipsoid and the
+momentum sphere, which circles the axis of ``I1`` or that of ``I3``. The sign of
+``D = M² − 2 E I2 = Σ I_i Ω_i² (I_i − I2)`` says which.
 
-    Ω1 = A1 cn(τ, m),  Ω2 = A2 sn(τ, m),  Ω3 = s A3 dn(τ, m),   τ = ±λ t + τ0,
+``D < 0``: it circles the smallest axis (a spin started near the intermediate axis with a
+nudge about the smallest one), and
 
-    A1² = (2E I3 − M²) / (I1 (I3 − I1)),   A2² = (2E I3 − M²) / (I2 (I3 − I2)),
-    A3² = (M² − 2E I1) / (I3 (I3 − I1)),   λ² = (I3 − I2)(M² − 2E I1) / (I1 I2 I3),
-    m = (I2 − I1)(2E I3 − M²) / ((I3 − I2)(M² − 2E I1)),
+    Ω1 = s A1 dn(τ, m),  Ω2 = A2 sn(τ, m),  Ω3 = A3 cn(τ, m),   τ = s λ t + τ0,
+    A1² = (2E I3 − M²) / (I1 (I3 − I1)),  A2² = (M² − 2E I1) / (I2 (I2 − I1)),
+    A3² = (M² − 2E I1) / (I3 (I3 − I1)),  λ² = (I2 − I1)(2E I3 − M²) / (I1 I2 I3),
+    m = (I3 − I2)(M² − 2E I1) / ((I2 − I1)(2E I3 − M²)).
 
-with ``s = sign Ω3(0)``, ``τ0`` from ``Ω(0)`` and the sign of ``λ t`` from the direction
-Euler's equations run round the orbit; when ``M² < 2 E I2`` it circles the axis of ``I1`` (swap the roles
-of 1 and 3). ``Ω`` is periodic with period ``T = 4 K(m) / λ``, ``K`` the complete elliptic
-integral of the first kind (Landau & Lifshitz, *Mechanics*, §37). A spin started close to
-the intermediate axis flips over (the Dzhanibekov effect) twice per period: ``Ω2``
-changes sign every ``T/2``. Uses :func:`scipy.special.ellipj`, :func:`~scipy.special.ellipk`
-and :func:`~scipy.special.ellipkinc`. Imports NumPy, SciPy and the core.
+``D > 0``: it circles the largest axis; swap the roles of 1 and 3 (``Ω1 = A1 cn``,
+``Ω3 = s A3 dn``, and the same swap in ``A``, ``λ`` and ``m``). Here ``s = ±1`` is the sign
+of the ``dn`` component, which never changes, and ``τ0`` puts ``(sn τ0, cn τ0)`` at the
+start. If the ordered axes are a left-handed triple of the body's, Euler's equations
+change sign and so does ``λ t``. ``Ω`` has the period ``T = 4 K(m) / λ``, ``K`` the complete
+elliptic integral of the first kind (Landau & Lifshitz, *Mechanics*, §37); near the
+intermediate axis ``Ω2`` changes sign every ``T/2``: the body flips over (the Dzhanibekov
+effect). Uses :func:`scipy.special.ellipj`, :func:`~scipy.special.ellipk` and
+:func:`~scipy.special.ellipkinc`. Imports NumPy, SciPy and the core.
 """
 
 from __future__ import annotations
@@ -27,10 +32,11 @@ from scipy.special import ellipj, ellipk, ellipkinc
 from .. import _validate
 from .inertia import check_moments
 
+#: What each ordered axis (1, 2, 3) follows, for D < 0 and for D > 0.
+FUNCTIONS = {"smallest": ("dn", "sn", "cn"), "largest": ("cn", "sn", "dn")}
+
 
 def _setup(inertia, omega0):
-    """Everything the formulas need, in the ordered frame ``I1 < I2 < I3`` (with the
-    permutation back), the polar axis circled last."""
     moments = check_moments("inertia", inertia)
     omega0 = _validate.shape_of("omega0", _validate.state_array("omega0", omega0), (3,))
     if moments.shape != (3,) or np.iscomplexobj(omega0):
@@ -39,30 +45,56 @@ def _setup(inertia, omega0):
     Ib, w = moments[order], omega0[order]
     if not (Ib[0] < Ib[1] < Ib[2]):
         raise ValueError(f"the exact solution here needs three distinct moments, got {moments.tolist()}")
-    E2 = float(np.sum(Ib * w * w))               # 2 E
-    M2 = float(np.sum((Ib * w) ** 2))            # |L|²
-    if M2 < E2 * Ib[1]:                          # circling axis 1: mirror the ordering
-        order, Ib, w = order[::-1], Ib[::-1], w[::-1]
-    return order, Ib, w, E2, M2
+    return order, Ib, w
 
 
 def parameters(inertia, omega0) -> dict:
-    """``m`` (the elliptic parameter, in [0, 1)), ``lam`` (λ, 1/s), the amplitudes ``A`` in
-    the ordered frame, the ``period`` ``4K(m)/λ`` (s) of ``Ω``, and ``order`` (the ordered
-    axes: ``order[2]`` is the axis the spin circles, ``order[1]`` the intermediate one)."""
-    order, Ib, _w, E2, M2 = _setup(inertia, omega0)
+    """Everything the exact solution needs, for principal moments ``inertia`` (3,) (kg m²)
+    and a start ``omega0`` (3,) (rad/s) in the body frame.
+
+    Returns a dict with ``D`` (``M² − 2E I2``, kg² m⁴/s², computed without cancellation),
+    ``circles`` (``"smallest"`` if ``D < 0``, else ``"largest"``), ``m`` (in [0, 1)),
+    ``lam`` (λ > 0, 1/s), ``period`` (``4K(m)/λ``, s), and per body axis the signed
+    ``amplitudes`` (3,) and ``functions`` (``"sn"``, ``"cn"`` or ``"dn"``), with ``rate``
+    (``±λ``) and ``tau0``, such that ``Ω_i(t) = amplitudes[i] · functions[i](rate t + tau0, m)``.
+    ``order`` lists the body axes from the smallest moment to the largest (``order[1]``
+    is the intermediate axis). Raises ``ValueError`` on the separatrix (``D = 0``).
+    """
+    order, Ib, w = _setup(inertia, omega0)
     I1, I2, I3 = Ib
-    a13 = E2 * I3 - M2
-    a31 = M2 - E2 * I1
-    lam2 = (I3 - I2) * a31 / (I1 * I2 * I3)
-    m = (I2 - I1) * a13 / ((I3 - I2) * a31)
-    if not 0.0 <= m < 1.0:
+    energy = Ib * w * w                                       # I_i Ω_i², summing to 2E
+    D = float(np.sum(energy * (Ib - I2)))                     # M² − 2E I2
+    above1 = float(np.sum(energy * (Ib - I1)))                # M² − 2E I1 ≥ 0
+    below3 = float(np.sum(energy * (I3 - Ib)))                # 2E I3 − M² ≥ 0
+    if D == 0.0:
         raise ValueError("the spin lies on the separatrix (M² = 2 E I2): its period is infinite")
-    amps = np.sqrt(np.maximum([a13 / (I1 * (I3 - I1)), a13 / (I2 * (I3 - I2)),
-                               a31 / (I3 * (I3 - I1))], 0.0))
+    if D < 0:
+        circles, dn_axis, cn_axis = "smallest", 0, 2
+        lam2 = (I2 - I1) * below3 / (I1 * I2 * I3)
+        m = (I3 - I2) * above1 / ((I2 - I1) * below3)
+        amps = np.sqrt([below3 / (I1 * (I3 - I1)), above1 / (I2 * (I2 - I1)), above1 / (I3 * (I3 - I1))])
+    else:
+        circles, dn_axis, cn_axis = "largest", 2, 0
+        lam2 = (I3 - I2) * above1 / (I1 * I2 * I3)
+        m = (I2 - I1) * below3 / ((I3 - I2) * above1)
+        amps = np.sqrt([below3 / (I1 * (I3 - I1)), below3 / (I2 * (I3 - I2)), above1 / (I3 * (I3 - I1))])
+    m = min(max(float(m), 0.0), np.nextafter(1.0, 0.0))
     lam = float(np.sqrt(lam2))
-    return {"m": float(m), "lam": lam, "A": amps, "period": 4.0 * float(ellipk(m)) / lam,
-            "order": order}
+    s = 1.0 if w[dn_axis] >= 0 else -1.0
+    # Euler's equations keep their form under a cyclic relabelling of the axes only.
+    handed = float(np.linalg.det(np.eye(3)[order]))
+    # a spin about the circled axis itself has no sn or cn part: start at τ0 = 0
+    sn0 = w[1] / amps[1] if amps[1] > 0 else 0.0
+    cn0 = w[cn_axis] / amps[cn_axis] if amps[cn_axis] > 0 else 1.0
+    tau0 = float(ellipkinc(np.arctan2(sn0, cn0), m))
+    signed = amps.copy()
+    signed[dn_axis] *= s
+    amplitudes, functions = np.empty(3), [""] * 3
+    for k, axis in enumerate(order):
+        amplitudes[axis], functions[axis] = signed[k], FUNCTIONS[circles][k]
+    return {"D": D, "circles": circles, "m": m, "lam": lam, "period": 4.0 * float(ellipk(m)) / lam,
+            "amplitudes": amplitudes, "functions": tuple(functions), "rate": s * handed * lam,
+            "tau0": tau0, "order": order}
 
 
 def period(inertia, omega0) -> float:
@@ -75,24 +107,10 @@ def omega(inertia, omega0, t) -> np.ndarray:
     """The exact body angular velocity (rad/s), shape ``(len(t), 3)``, at times ``t`` (s)
     of a torque-free spin with principal moments ``inertia`` from ``omega0`` at ``t = 0``."""
     p = parameters(inertia, omega0)
-    _, _Ib, w, _, _ = _setup(inertia, omega0)
-    A1, A2, A3 = p["A"]
-    s3 = 1.0 if w[2] >= 0 else -1.0
-    cn0 = w[0] / A1 if A1 > 0 else 1.0
-    sn0 = w[1] / A2 if A2 > 0 else 0.0
-    tau0 = float(ellipkinc(np.arctan2(sn0, cn0), p["m"]))
-    # The formulas trace the whole orbit; which way round depends on the handedness of
-    # the ordered axes and on which pole is circled: take the way Euler's equations go.
-    sn, cn, dn, _ = ellipj(tau0, p["m"])
-    along = np.array([-A1 * sn * dn, A2 * cn * dn, -s3 * A3 * p["m"] * sn * cn])
-    moments, w0 = np.asarray(inertia, dtype=float), np.asarray(omega0, dtype=float)
-    rhs = (np.cross(moments * w0, w0) / moments)[p["order"]]
-    lam = p["lam"] if float(along @ rhs) >= 0 else -p["lam"]
-    sn, cn, dn, _ = ellipj(lam * np.asarray(t, dtype=float) + tau0, p["m"])
-    ordered = np.stack((A1 * cn, A2 * sn, s3 * A3 * dn), axis=-1)
-    out = np.empty_like(ordered)
-    out[..., p["order"]] = ordered
-    return out
+    sn, cn, dn, _ = ellipj(p["rate"] * np.asarray(t, dtype=float) + p["tau0"], p["m"])
+    values = {"sn": sn, "cn": cn, "dn": dn}
+    return np.stack([a * values[f] for a, f in zip(p["amplitudes"], p["functions"], strict=True)],
+                    axis=-1)
 
 
 def crossings(t, values) -> np.ndarray:

@@ -114,7 +114,7 @@ def rotate(q, r) -> np.ndarray:
     return r + w * t + cross(u, t)
 
 
-def step(q, omega, dt: float) -> np.ndarray:
+def step(q, omega, dt: float, renormalise: bool = True) -> np.ndarray:
     """One explicit step of ``dq/dt = ½ (0, ω) ⊗ q``, renormalised (Baraff 2001).
 
     Parameters
@@ -125,17 +125,20 @@ def step(q, omega, dt: float) -> np.ndarray:
         World-frame angular velocities (rad/s).
     dt : float
         Step (s).
+    renormalise : bool
+        Divide by the length after the step (the default). ``False`` shows why it is
+        needed: the length then grows by ``√(1 + |ω|²Δt²/4)`` every step.
 
     Returns
     -------
     ndarray, shape (..., 4)
-        ``normalize(q + ½ Δt (0, ω) ⊗ q)``: without the renormalisation the length grows
-        by ``√(1 + |ω|²Δt²/4)`` every step.
+        ``normalize(q + ½ Δt (0, ω) ⊗ q)``.
     """
     omega = np.asarray(omega, dtype=float)
     pure = np.concatenate((np.zeros((*omega.shape[:-1], 1)), omega), axis=-1)
     q = np.asarray(q, dtype=float)
-    return normalize(q + 0.5 * dt * multiply(pure, q))
+    q1 = q + 0.5 * dt * multiply(pure, q)
+    return normalize(q1) if renormalise else q1
 
 
 def body_step(q, omega_body, dt: float) -> np.ndarray:
