@@ -1,8 +1,10 @@
-"""Instructor tools: student versions, grading, feedback, the student release, nbgrader export.
+"""Instructor tools: student versions, grading (here or on a Dask cluster), feedback, LMS
+exports, the student release, nbgrader export, synthetic classes, clips.
 
-Command line: ``python -m course_lib.instructor {student,execute,figures,grade,release,nbgrader}``
-(or ``make student``, ``make execute``, ``make grade``, ``make release``, ``make nbgrader``);
-docs/INSTRUCTORS.md walks through the whole cycle.
+Command line: ``python -m course_lib.instructor {student,execute,figures,grade,release,nbgrader,
+synth-class,export,clips}`` (or ``make student``, ``make execute``, ``make grade``,
+``make release``, ``make nbgrader``, ``make clips``); docs/INSTRUCTORS.md walks through the
+whole cycle.
 
 Submodules are imported on first use.
 """
@@ -20,6 +22,8 @@ _EXPORTS = {
     "grade_notebook": "grade",
     "build_release": "release",
     "export_nbgrader": "nbgrader_export",
+    "export_grades": "lms",
+    "synth_class": "synth",
 }
 
 __all__ = sorted(_EXPORTS)
