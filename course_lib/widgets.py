@@ -12,6 +12,9 @@ Every interactive demo in the course has two halves:
 jump) and says "computing…" while it works; :class:`BlitPlot` is a figure whose axes never
 change, so only its moving artists are redrawn (notebooks 02 and 04 use both).
 
+:func:`load_backend`, called by every view, makes a widget's first picture show in a fresh
+kernel (a detached figure never makes pyplot load the inline backend).
+
 Tests drive a view the way a student does, by setting a control's ``.value``, then assert
 on ``view.result``. Outside a kernel (tests, benchmarks) the figure is drawn off-screen and
 closed, so drawing code is exercised too.
@@ -47,6 +50,31 @@ def log_slider(description: str, value: float, lo: float, hi: float, steps: int 
     )
 
 
+def load_backend() -> None:
+    """Load matplotlib's backend now. A widget draws on a detached figure, which never
+    makes pyplot load its backend; in a fresh kernel the inline backend, which registers
+    the PNG display of figures, is then missing and the widget shows ``<Figure ...>`` text
+    instead of its picture (until some other cell draws with pyplot)."""
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover
+        return
+    shell = get_ipython()
+    if shell is None or getattr(shell, "kernel", None) is None:
+        return                                  # outside a kernel: nothing to display
+    from matplotlib.figure import Figure
+
+    try:
+        shell.display_formatter.formatters["image/png"].lookup_by_type(Figure)
+        return                                  # loaded already (switching would close figures)
+    except KeyError:
+        pass
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    plt.switch_backend(matplotlib.get_backend())
+
+
 class ExplorerView:
     """Controls + output area wired to ``compute`` and ``draw``.
 
@@ -72,6 +100,7 @@ class ExplorerView:
     def __init__(self, compute: Callable, draw: Callable, controls: Mapping, fixed: Mapping | None = None):
         import ipywidgets as w
 
+        load_backend()
         self.compute = compute
         self.draw = draw
         self.controls = dict(controls)

@@ -132,8 +132,7 @@ def draw_energy_bands(res: EnergyBands, fig=None):
 def energy_explorer(dt: float = 0.1):
     """The energy-band widget: a log slider for ``dt`` over
     :func:`~course_lib.lessons.nb05_newton.energy_bands` (ω = 1 rad/s, 20 periods)."""
-    from ..widgets import ExplorerView, log_slider
-    from .busy_view import load_backend
+    from ..widgets import ExplorerView, load_backend, log_slider
 
     load_backend()
     return ExplorerView(energy_bands, EnergyBandPlot(),
