@@ -28,6 +28,8 @@ import os
 import resource
 import signal
 import sys
+import threading
+import time
 import types
 
 _dumps, _write, _hmac_new = json.dumps, os.write, hmac.new  # bound before any student code
@@ -112,7 +114,25 @@ def compare(before: dict, check_module: str) -> list[str]:
     return found[:20]
 
 
+def watch_parent(period: float = 0.5) -> None:
+    """End this process group if the grader that started it dies (the worker is then
+    adopted by another process). A killed Dask worker or grader must not leave a
+    submission running: its limits stop a busy loop, but not one that sleeps. A thread that
+    polls ``getppid`` rather than ``PR_SET_PDEATHSIG``, which fires when the parent's
+    *thread* ends, and the grader starts workers from pool threads."""
+    parent, killpg, getpgid, sleep = os.getppid(), os.killpg, os.getpgid, time.sleep
+
+    def run() -> None:
+        while True:
+            sleep(period)
+            if os.getppid() != parent:
+                killpg(getpgid(0), signal.SIGKILL)
+
+    threading.Thread(target=run, name="parent-watch", daemon=True).start()
+
+
 def main() -> None:
+    watch_parent()
     channel_fd = int(sys.argv[1])
     job = json.loads(sys.stdin.read())
     sys.stdin = open(os.devnull)  # student code that reads stdin gets nothing
