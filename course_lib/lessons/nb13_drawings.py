@@ -2,7 +2,7 @@
 
 Holds the three kernels and their slopes (:func:`draw_kernels`), the pair count against N
 (:func:`draw_pairs`), the water column's pressure against ρgh (:func:`draw_hydrostatic`),
-the surge front against Martin & Moyce and Ritter (:func:`draw_front`) and the animation
+the surge front and its error against Martin & Moyce and Ritter (:func:`draw_front`) and the animation
 coloured by speed (:func:`dam_animation`). Imports matplotlib and the core.
 """
 
@@ -19,13 +19,18 @@ RUN_COLORS = {"iisph": "C0", "wcsph": "C3"}
 
 
 def draw_kernels(radius: float = 1.0):
-    """W(r) and dW/dr of the three kernels in 2D, all with the support ``radius`` (m)."""
+    """W(r) and dW/dr of the three kernels in 2D, all with the support ``radius`` (m), and
+    the distance Δx of the nearest lattice neighbours for our support of 2.4 Δx."""
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(9.0, 3.4))
     r = np.linspace(0.0, 1.1 * radius, 400)
     for name, W in KERNELS.items():
         h = radius / SUPPORT[name]
         ax.plot(r, W(r, h, 2), color=KERNEL_COLORS[name], label=f"{name} (h = {h:g} m)")
         ax2.plot(r, GRADIENTS[name](r, h, 2), color=KERNEL_COLORS[name], label=name)
+    for axis in (ax, ax2):        # where the nearest neighbours sit with our support of 2.4 Δx
+        axis.axvline(radius / 2.4, color="gray", ls=":", lw=1)
+    ax2.text(radius / 2.4, ax2.get_ylim()[0] * 0.9, " r = Δx\n (support 2.4 Δx)", fontsize=7,
+             color="gray", va="bottom")
     ax.set(xlabel="distance r (m)", ylabel="W (1/m²)", title="kernels in 2D, support 1 m")
     ax2.set(xlabel="distance r (m)", ylabel="dW/dr (1/m³)", title="their slopes")
     ax.legend(fontsize=8)
@@ -70,18 +75,42 @@ def draw_hydrostatic(col):
     return fig
 
 
-def draw_front(runs: dict, T_max: float = 3.5):
-    """Z against T of each run (``{label: DamRun}``) with Martin & Moyce's points and
-    Ritter's line."""
-    fig, ax = plt.subplots(figsize=(6.5, 4.0))
+def draw_front(runs: dict, delay: float, T_max: float = 3.5):
+    """Left: Z against T of each run (``{label: DamRun}``, the first also delayed by
+    ``delay``) with Martin & Moyce's points and Ritter's line. Right: each run's relative
+    error at Martin & Moyce's times, released at once (solid) and delayed (dashed)."""
+    from matplotlib.lines import Line2D
+
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10.0, 4.0))
     T = np.linspace(0.0, T_max, 50)
     ax.plot(T, ritter_front(T), **EXACT_STYLE, label="Ritter (1892): Z = 1 + 2T")
-    for k, (label, run) in enumerate(runs.items()):
-        ax.plot(run.T, run.Z, color=f"C{k}", label=label)
-    ax.plot(*MARTIN_MOYCE.T, "ks", ms=5, mfc="white", label="Martin & Moyce (1952), n² = 2")
-    ax.set(xlabel="T = t √(2g/a)", ylabel="Z = z / a", xlim=(0, T_max), ylim=(0.9, 6.0),
+    styles = [dict(color=f"C{k // 2}", ls="-" if k % 2 == 0 else "--") for k in range(len(runs))]
+    for (label, run), style in zip(runs.items(), styles, strict=True):
+        ax.plot(run.T, run.Z, lw=1.5, label=label, **style)
+    first_label, first = next(iter(runs.items()))
+    ax.plot(first.T + delay, first.Z, color="C2", ls=":", lw=2,
+            label=f"{first_label}, delayed by ΔT = {delay}")
+    T_mm, Z_mm = MARTIN_MOYCE.T
+    ax.plot(T_mm, Z_mm, "ks", ms=5, mfc="white", zorder=5, label="Martin & Moyce (1952), n² = 2")
+    ax.set(xlabel="T = t √(2g/a)", ylabel="Z = z / a", xlim=(0, T_max), ylim=(0.9, 5.0),
            title="dam-break surge front")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7, loc="upper left", frameon=True, framealpha=0.95).set_zorder(10)
+    for run, style in zip(runs.values(), styles, strict=True):
+        for shift, ls in ((0.0, "-"), (delay, "--")):
+            err = 100 * (np.interp(T_mm - shift, run.T, run.Z) / Z_mm - 1)
+            ax2.plot(T_mm, err, marker="o" if shift == 0 else "s", ms=3, color=style["color"],
+                     ls=ls, alpha=1.0 if style["ls"] == "-" else 0.55)
+    ax2.axhspan(-10, 10, color="C2", alpha=0.12)
+    ax2.axhline(0.0, color="k", lw=0.6)
+    handles = [Line2D([], [], color="C0", label="800 particles"),
+               Line2D([], [], color="C1", label="450 particles"),
+               Line2D([], [], color="gray", alpha=0.55, label="fainter: ν = 0"),
+               Line2D([], [], color="gray", marker="o", ms=3, label="released at T = 0"),
+               Line2D([], [], color="gray", ls="--", marker="s", ms=3, label=f"delayed by ΔT = {delay}"),
+               Line2D([], [], color="C2", lw=6, alpha=0.3, label="±10 % (the target)")]
+    ax2.legend(handles=handles, fontsize=7, loc="lower center", ncol=2)
+    ax2.set(xlabel="T = t √(2g/a)", ylabel="Z / Z_MM − 1 (%)", title="front against Martin & Moyce",
+            ylim=(-26, 22))
     fig.tight_layout()
     return fig
 
@@ -89,12 +118,14 @@ def draw_front(runs: dict, T_max: float = 3.5):
 def dam_animation(frames, sim, fps: float = 15.0, size=(6.0, 3.0), tank: float = 6.0,
                   dpi: float | None = None, vmax: float | None = None):
     """A ``FuncAnimation`` of saved frames, particles coloured by speed (m/s) with a
-    colour bar, walls in grey; ``tank`` its length in column widths."""
+    colour bar (up to ``vmax``, default the fastest particle rounded up), walls in grey;
+    ``tank`` its length in column widths."""
     from matplotlib.animation import FuncAnimation
 
     fig, ax = plt.subplots(figsize=size, dpi=dpi)
     a = 2.0 * (np.max(frames.x[0][:, 1]) + 0.5 * sim.params.spacing) / 4.0   # column width
-    vmax = float(np.sqrt(2 * 9.81 * 2 * a)) if vmax is None else vmax
+    # the colour bar reaches the fastest particle of the clip, so that no colour saturates
+    vmax = float(np.ceil(np.max(frames.speed))) if vmax is None else vmax
     walls = ax.scatter(*sim.wall.x.T, color="0.6", lw=0)
     dots = ax.scatter(*frames.x[0].T, c=frames.speed[0], cmap="viridis", vmin=0.0, vmax=vmax,
                       lw=0)

@@ -1,12 +1,13 @@
-"""Notebook 13 (SPH liquids): the studies and runs behind the notebook.
+"""Notebook 13 (SPH liquids): the studies of Sections 1 to 4 and the showcase clip.
 
 Holds the kernels' normalisation by quadrature (:func:`normalisation_errors`), the pair
 count against N (:func:`pair_counts`), the density at a wall (:func:`wall_density`), the
 total force of a symmetric and a naive pressure force (:func:`momentum_study`), the water
-column at rest (:func:`hydrostatic_column`), the step each method allows
-(:func:`step_study`), the dam break against Martin & Moyce (:func:`dam_run`) and the
-clip of it (:func:`showcase_animation`). Built on :mod:`course_lib.sph`; the drawings are
-in :mod:`course_lib.lessons.nb13_drawings`. The core never imports this module.
+column at rest (:func:`hydrostatic_column`) and the clip of the dam break
+(:func:`showcase_animation`). The runs of Sections 5 to 8 (time steps, the dam break
+against Martin & Moyce) are in :mod:`course_lib.lessons.nb13_runs`, the drawings in
+:mod:`course_lib.lessons.nb13_drawings`. Built on :mod:`course_lib.sph`; the core never
+imports this module.
 """
 
 from __future__ import annotations
@@ -20,15 +21,6 @@ from scipy.integrate import quad
 from .. import sph
 from ..sph import boundary, density, forces, kernels, scenes
 
-#: The notebook's dam break: about 800 particles (20 × 40), IISPH.
-N_DAM = 800
-#: The step study's dam break (15 × 30 particles), up to T = 1.5.
-N_STUDY, T_STUDY = 450, 1.5
-#: The (method, Courant number λ) pairs of the step study.
-STUDY_RUNS = (("wcsph", 0.4), ("wcsph", 2.0), ("wcsph", 2.4),
-              ("iisph", 0.4), ("iisph", 1.2), ("iisph", 1.6))
-#: Delays ΔT tried by :func:`best_shift`.
-SHIFTS = np.round(np.arange(0.0, 0.505, 0.01), 2)
 _SHELL = {1: lambda r: 2.0, 2: lambda r: 2 * np.pi * r, 3: lambda r: 4 * np.pi * r * r}
 
 
@@ -134,7 +126,9 @@ def momentum_study(side: int = 20, steps: int = 100, seed: int = 2026):
 class Column:
     """The water column at rest: row heights ``y`` (m), the row means of the time-averaged
     pressure ``p`` and of ``ρ₀ g (H - y)`` (Pa), the depth ``H``, support and spacing (m),
-    the mean and largest compression over the average, and the simulation."""
+    the mean and largest compression over the average, the time-averaged mean vertical
+    velocity (m/s) of the particles within two spacings of a side wall and of the others,
+    and the simulation."""
 
     y: np.ndarray
     p: np.ndarray
@@ -144,6 +138,8 @@ class Column:
     spacing: float
     density_error: float
     max_density_error: float
+    side_vy: float
+    middle_vy: float
     sim: sph.Simulation
 
     @property
@@ -158,84 +154,31 @@ def hydrostatic_column(t_end: float = 1.2, average: float = 0.2, method: str = "
                        **changes) -> Column:
     """A 0.5 m column of water in a 0.5 m box (spacing 25 mm, 400 particles), run to
     ``t_end`` (s); its pressure and density are averaged over the last ``average`` s and
-    binned into the lattice's rows."""
+    binned into the lattice's rows. ``changes`` go to :func:`course_lib.sph.water_column`
+    (e.g. ``wall_pressure="mirrored"``)."""
     sim = sph.water_column(method=method, **changes)
     sim.run(t_end - average)
     first = sim.steps
-    p_sum, x_sum, count = np.zeros(sim.n), np.zeros_like(sim.x), [0]
+    dx, width, depth = sim.params.spacing, 0.5, 0.5
+    p_sum, x_sum, count, vy = np.zeros(sim.n), np.zeros_like(sim.x), [0], np.zeros(2)
 
     def add(s):
         p_sum[:] += s.p
         x_sum[:] += s.x
         count[0] += 1
+        side = np.minimum(s.x[:, 0], width - s.x[:, 0]) < 2 * dx
+        vy[:] += s.v[side, 1].mean(), s.v[~side, 1].mean()
 
     sim.run(t_end, on_step=add)
     p, y = p_sum / count[0], x_sum[:, 1] / count[0]
-    dx, depth = sim.params.spacing, 0.5
     row = np.clip(np.floor(y / dx).astype(int), 0, None)
     used = np.unique(row)
     mean = lambda a: np.array([a[row == k].mean() for k in used])   # noqa: E731
     exact = sim.params.rho0 * scenes.G * (depth - y)
     return Column(mean(y), mean(p), mean(exact), depth, sim.params.support, dx,
                   float(np.mean(sim.history["density_error"][first:])),
-                  float(np.max(sim.history["max_density_error"][first:])), sim)
-
-
-@dataclass
-class DamRun:
-    """A dam break: ``T`` and ``Z`` after every step, the frames, the CPU time (s), the
-    simulation."""
-
-    T: np.ndarray
-    Z: np.ndarray
-    frames: sph.Frames | None
-    cpu: float
-    sim: sph.Simulation
-
-    @property
-    def cost_per_second(self) -> float:
-        """CPU seconds per simulated second."""
-        return self.cpu / self.sim.t
-
-    @property
-    def steps_per_second(self) -> float:
-        """Steps per simulated second."""
-        return self.sim.steps / self.sim.t
-
-
-def dam_run(n_particles: int = N_DAM, method: str = "iisph", T_end: float = 3.5,
-            frames: int = 0, a: float = 1.0, **changes) -> DamRun:
-    """Martin & Moyce's dam break up to ``T_end``, saving ``frames`` evenly spaced frames
-    (0: none)."""
-    sim = scenes.dam_break_simulation(n_particles, method, a, **changes)
-    scale = np.sqrt(a / (2 * scenes.G))
-    fronts = [scenes.front(sim.x, sim.params.spacing)]
-    start = time.process_time()
-    saved = sim.run(T_end * scale, frame_dt=T_end * scale / frames if frames else None,
-                    on_step=lambda s: fronts.append(scenes.front(s.x, s.params.spacing)))
-    cpu = time.process_time() - start
-    T = np.concatenate([[0.0], sim.history["t"]]) / scale
-    return DamRun(T, np.array(fronts) / a, saved if frames else None, cpu, sim)
-
-
-def step_study(n_particles: int = N_STUDY, T_end: float = T_STUDY, runs=STUDY_RUNS) -> dict:
-    """The dam break with each method at several Courant numbers: ``{(method, λ): DamRun}``."""
-    return {(method, cfl): dam_run(n_particles, method, T_end, cfl=cfl) for method, cfl in runs}
-
-
-def front_errors(run: DamRun) -> np.ndarray:
-    """``Z / Z_MM - 1`` at Martin & Moyce's times (interpolated in the run's steps)."""
-    T, Z = sph.MARTIN_MOYCE.T
-    return np.interp(T, run.T, run.Z) / Z - 1.0
-
-
-def best_shift(run: DamRun, shifts=SHIFTS) -> tuple[float, float]:
-    """The delay ``ΔT`` that, added to the run's times, brings its front closest to
-    Martin & Moyce's (smallest largest relative error), and that error."""
-    T, Z = sph.MARTIN_MOYCE.T
-    errors = [np.max(np.abs(np.interp(T - s, run.T, run.Z) / Z - 1.0)) for s in shifts]
-    k = int(np.argmin(errors))
-    return float(shifts[k]), float(errors[k])
+                  float(np.max(sim.history["max_density_error"][first:])),
+                  *(vy / count[0]).tolist(), sim)
 
 
 def showcase_animation(n_particles: int = 1800, seconds: float = 8.0, fps: float = 30.0,

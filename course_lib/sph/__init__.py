@@ -13,17 +13,17 @@
   IISPH's pressure operators as sparse matrices;
 - :mod:`~course_lib.sph.simulation`: :class:`Simulation` (state, frames, statistics);
 - :mod:`~course_lib.sph.scenes`: the water column, the dam break and
-  :func:`dam_break` -> ``(T, Z)`` against :data:`MARTIN_MOYCE`.
+  :func:`dam_break` -> ``(T, Z)`` against :data:`MARTIN_MOYCE` (:func:`front_errors`).
 """
 
 from . import boundary, density, forces, iisph, kernels, operators, params, scenes, wcsph
 from .boundary import Boundary
 from .kernels import GRADIENTS, KERNELS, SUPPORT
 from .params import Params
-from .scenes import MARTIN_MOYCE, dam_break, dam_break_simulation, ritter_front, water_column
+from .scenes import MARTIN_MOYCE, dam_break, dam_break_simulation, front_errors, ritter_front, water_column
 from .simulation import METHODS, Frames, Simulation
 
 __all__ = ["GRADIENTS", "KERNELS", "MARTIN_MOYCE", "METHODS", "SUPPORT", "Boundary", "Frames",
            "Params", "Simulation", "boundary", "dam_break", "dam_break_simulation", "density",
-           "forces", "iisph", "kernels", "operators", "params", "ritter_front", "scenes",
+           "forces", "front_errors", "iisph", "kernels", "operators", "params", "ritter_front", "scenes",
            "water_column", "wcsph"]

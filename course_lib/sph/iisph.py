@@ -10,24 +10,26 @@ continuity equation predicts the density they lead to,
 The pressure accelerations ``a^p(p)`` (:func:`~course_lib.sph.forces.pressure_acceleration`)
 change it by ``(A p)_i = Δt² [Σ_j m_j (a^p_i - a^p_j)·∇W_ij + Σ_k ψ_k a^p_i·∇W_ik]``, so the
 pressures solve the linear system ``A p = ρ₀ - ρ*``, with ``p ≥ 0`` (a free surface cannot
-pull). It is solved by relaxed Jacobi, ``p ← max(0, p + ω (ρ₀ - ρ* - A p)/a_ii)`` with
-``ω = 1/2``, starting from half the last step's pressures, until the mean compression is
-below a tolerance (0.1 %). ``a_ii``, the diagonal of ``A``, is
+pull). :func:`jacobi` solves it by relaxed Jacobi, ``p ← max(0, p + ω (ρ₀ - ρ* - A p)/a_ii)``
+with ``ω = 1/2``, starting from half the last step's pressures, until the mean predicted
+compression ``mean(max(ρ* + A p - ρ₀, 0))/ρ₀`` is below a tolerance (0.1 %). ``a_ii``, the
+diagonal of ``A`` (:meth:`~course_lib.sph.operators.PressureOperator.diagonal`), is negative:
+raising ``p_i`` pushes the neighbours away and lowers ``ρ_i``, so a compressed particle
+(``ρ* > ρ₀``) gets a higher pressure.
 
-    a_ii = Δt² [D_i·G_i - (m_i/ρ_i²) Σ_j m_j |∇W_ij|²],   G_i = Σ_j m_j ∇W_ij + Σ_k ψ_k ∇W_ik,
-
-with ``D_i = ∂a^p_i/∂p_i`` (the wall pressures take a share of ``p_i``, see
-:func:`~course_lib.sph.forces.wall_pressure`).
-
-Since the pressure no longer comes from a speed of sound, the step follows the flow,
-``Δt = λ Δx / |v|max`` (:func:`cfl_step`). Core module.
+The prediction is first order in ``Δt``: the pairs, and the gradients on them, are those
+at the start of the step, so the density reached differs from the one solved for by
+``O(Δt²)``. The flow, not sound, sets the step, ``Δt = λ Δx / |v|max`` (:func:`cfl_step`),
+and ``λ`` must stay small enough that particles move a fraction of a spacing. Core module.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
-from .density import neighbourhood, scatter, summation_density
+from .density import neighbourhood, summation_density
 from .forces import viscosity_acceleration
 from .operators import PressureOperator
 from .params import Params
@@ -46,37 +48,42 @@ def cfl_step(params: Params, v_max: float, a_max: float) -> float:
     return float(dt)
 
 
-def solve_pressure(op: PressureOperator, params: Params, rho_star, dt: float, grad2, p0=None):
-    """Relaxed Jacobi for ``A p = ρ₀ - ρ*``, ``p ≥ 0``, with ``A = Δt² div(a^p(·))`` of the
-    operator ``op``. Returns ``(p, iterations, compression)``: the pressures (Pa), the
-    sweeps taken and the predicted mean compression ``mean(max(ρ* + A p - ρ₀, 0))/ρ₀``
-    of the last sweep; ``grad2`` (N,) is ``m_i Σ_j m_j |∇W_ij|²``."""
-    a_ii = op.diagonal(dt, grad2)
-    active = a_ii < 0.0                    # an isolated particle has no equation
-    source = params.rho0 - rho_star
-    p = np.zeros(op.n) if p0 is None else np.where(active, 0.5 * np.asarray(p0, dtype=float), 0.0)
-    step_size = np.where(active, params.omega / np.where(active, a_ii, -1.0), 0.0)
-    compression = np.inf
-    for sweep in range(1, params.max_iterations + 1):
-        residual = source - dt * dt * op.divergence(op.accel(p))
-        compression = float(np.mean(np.maximum(-residual, 0.0))) / params.rho0
-        p = np.maximum(p + step_size * residual, 0.0)
-        if compression <= params.tolerance and sweep >= 2:
+def jacobi(apply_A: Callable[[np.ndarray], np.ndarray], a_ii: np.ndarray, source: np.ndarray,
+           p0: np.ndarray, rho0: float, omega: float = 0.5, tolerance: float = 1e-3,
+           max_sweeps: int = 500) -> tuple[np.ndarray, int]:
+    """Relaxed Jacobi for ``A p = source`` with ``p ≥ 0``: returns ``(p, sweeps)``.
+
+    ``apply_A(p)`` (N,) -> (N,) is the operator, ``a_ii`` (N,) its diagonal (negative; a
+    particle with ``a_ii ≥ 0`` has no neighbours and keeps ``p = 0``), ``source`` (N,) is
+    ``ρ₀ - ρ*`` (kg/m^dim), ``p0`` (N,) the start (Pa). Each sweep computes the residual
+    ``r = source - A p``, then ``p ← max(0, p + ω r / a_ii)``; it stops after the sweep whose
+    residual gives a mean compression ``mean(max(-r, 0))/ρ₀ ≤ tolerance``.
+    """
+    active = a_ii < 0.0
+    step = np.divide(omega, a_ii, out=np.zeros_like(a_ii, dtype=float), where=active)
+    p = np.where(active, p0, 0.0)
+    for sweep in range(1, max_sweeps + 1):  # noqa: B007 (the count is returned)
+        residual = source - apply_A(p)
+        compression = np.mean(np.maximum(-residual, 0.0)) / rho0
+        p = np.maximum(p + step * residual, 0.0)
+        if compression <= tolerance:
             break
-    return p, sweep, compression
+    return p, sweep
 
 
 def step(x: np.ndarray, v: np.ndarray, params: Params, wall=None, dt: float | None = None,
          dt_max: float = np.inf, p_last=None):
     """One IISPH step from positions ``x`` and velocities ``v`` (N, dim); ``p_last`` the
-    previous step's pressures (a warm start). ``dt=None`` takes :func:`cfl_step`, at most ``dt_max``.
+    previous step's pressures (a warm start from half of them). ``dt=None`` takes
+    :func:`cfl_step`, at most ``dt_max``.
 
     Returns ``(x, v, info)``: ``info`` holds ``dt``, ``rho`` (density at the start of the
-    step), ``p`` (the pressures solved for), ``iterations``, ``compression`` and ``pairs``.
+    step), ``p`` (the pressures solved for), ``iterations`` (Jacobi sweeps), ``predicted``
+    (the density ``ρ* + A p`` the pressures lead to, to first order) and ``pairs``.
     """
     psi = None if wall is None else wall.psi
     nb = neighbourhood(x, params.h, params.kernel, wall)
-    m = np.broadcast_to(np.asarray(params.mass, dtype=float), (nb.n,))
+    m = params.mass
     rho = summation_density(nb, m, psi)
     a_np = viscosity_acceleration(nb, m, rho, v, params.viscosity, params.wall_viscosity, psi)
     a_np += np.asarray(params.gravity, dtype=float)
@@ -87,9 +94,13 @@ def step(x: np.ndarray, v: np.ndarray, params: Params, wall=None, dt: float | No
     op = PressureOperator(nb, m, rho, psi, params.gravity, params.rho0, params.wall_pressure)
     v_star = v + dt * a_np
     rho_star = rho + dt * op.divergence(v_star)
-    g2 = np.einsum("pk,pk->p", nb.gw, nb.gw)
-    grad2 = m * scatter(nb.i, nb.j, m[nb.j] * g2, nb.n, m[nb.i] * g2)
-    p, iterations, compression = solve_pressure(op, params, rho_star, dt, grad2, p_last)
+
+    def apply_A(p):
+        return dt * dt * op.divergence(op.accel(p))
+
+    p0 = np.zeros(nb.n) if p_last is None else 0.5 * np.asarray(p_last, dtype=float)
+    p, sweeps = jacobi(apply_A, op.diagonal(dt), params.rho0 - rho_star, p0, params.rho0,
+                       params.omega, params.tolerance, params.max_iterations)
     v = v_star + dt * op.accel(p)
-    return x + dt * v, v, {"dt": dt, "rho": rho, "p": p, "iterations": iterations,
-                           "compression": compression, "pairs": nb.n_pairs}
+    return x + dt * v, v, {"dt": dt, "rho": rho, "p": p, "iterations": sweeps,
+                           "predicted": rho_star + apply_A(p), "pairs": nb.n_pairs}

@@ -26,10 +26,12 @@ from .density import Neighbourhood
 
 
 def _matrices(rows, cols, columns: list[np.ndarray], shape) -> list[sp.csr_array]:
-    """CSR matrices sharing one sparsity pattern, one per data array (no duplicates)."""
-    order = sp.csr_array((np.arange(len(rows), dtype=float), (rows, cols)), shape=shape)
-    perm = order.data.astype(np.intp)
-    return [sp.csr_array((c[perm], order.indices, order.indptr), shape=shape) for c in columns]
+    """CSR matrices sharing one sparsity pattern, one per data array (no duplicates): the
+    entries grouped by row with a stable sort, so no COO conversion is needed."""
+    perm = np.argsort(rows, kind="stable")
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=shape[0]))])
+    indices = np.asarray(cols)[perm]
+    return [sp.csr_array((c[perm], indices, indptr), shape=shape) for c in columns]
 
 
 class PressureOperator:
@@ -48,14 +50,18 @@ class PressureOperator:
         rows, cols = np.concatenate([nb.i, nb.j]), np.concatenate([nb.j, nb.i])
         data = [np.concatenate([m[nb.j] * nb.gw[:, k], -m[nb.i] * nb.gw[:, k]]) for k in range(dim)]
         self.G = _matrices(rows, cols, data, (n, n))
-        self.g = np.stack([Gk.sum(axis=1) for Gk in self.G], axis=1)
+        self.g = np.stack([np.bincount(rows, d, minlength=n) for d in data], axis=1)   # row sums
+        g2 = np.einsum("pk,pk->p", nb.gw, nb.gw)
+        self.grad2 = m * (np.bincount(nb.i, m[nb.j] * g2, minlength=n)
+                          + np.bincount(nb.j, m[nb.i] * g2, minlength=n))
         self.mirrored = wall_pressure == "mirrored"
         self.B, self.w = None, np.zeros((n, dim))
         if psi is not None and len(nb.bi):
             psi = np.asarray(psi, dtype=float)
             K = len(psi)
-            self.B = _matrices(nb.bi, nb.bk, [psi[nb.bk] * nb.bgw[:, k] for k in range(dim)], (n, K))
-            self.w = np.stack([Bk.sum(axis=1) for Bk in self.B], axis=1)
+            wall = [psi[nb.bk] * nb.bgw[:, k] for k in range(dim)]
+            self.B = _matrices(nb.bi, nb.bk, wall, (n, K))
+            self.w = np.stack([np.bincount(nb.bi, d, minlength=n) for d in wall], axis=1)
             total = np.bincount(nb.bk, nb.bw, minlength=K)
             share = np.divide(nb.bw, total[nb.bk], out=np.zeros_like(nb.bw), where=total[nb.bk] > 0)
             self.E = sp.csr_array((share, (nb.bk, nb.bi)), shape=(K, n))
@@ -87,9 +93,11 @@ class PressureOperator:
             out -= Gk @ u[:, k]
         return out
 
-    def diagonal(self, dt: float, grad2: np.ndarray) -> np.ndarray:
-        """``a_ii`` of ``A = Δt² div(a^p(·))``: the coefficient of ``p_i`` in ``(A p)_i``,
-        given ``grad2 = Σ_j m_j |∇W_ij|²`` times ``m_i`` (N,)."""
+    def diagonal(self, dt: float) -> np.ndarray:
+        """``a_ii`` (N,) of ``A = Δt² div(a^p(·))``: the coefficient of ``p_i`` in ``(A p)_i``
+        (the wall pressures' share of ``p_i`` included, their effect on the neighbours left
+        out). With ``D_i = ∂a^p_i/∂p_i`` and ``G_i = Σ_j m_j ∇W_ij + Σ_k ψ_k ∇W_ik``,
+        ``a_ii = Δt² [D_i·G_i - (m_i/ρ_i²) Σ_j m_j |∇W_ij|²] < 0``."""
         D = -self.g / self.rho2[:, None]
         if self.B is not None:
             if self.mirrored:
@@ -99,4 +107,4 @@ class PressureOperator:
                 share = self.E.T.tocsr()
                 for k, Bk in enumerate(self.B):
                     D[:, k] -= (Bk.multiply(share)).sum(axis=1) / self.rho0**2
-        return dt * dt * (np.einsum("nk,nk->n", D, self.g + self.w) - grad2 / self.rho2)
+        return dt * dt * (np.einsum("nk,nk->n", D, self.g + self.w) - self.grad2 / self.rho2)

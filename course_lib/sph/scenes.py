@@ -6,7 +6,8 @@
   ``a`` and height ``2a`` (Martin & Moyce's n² = 2) against the back wall of a long
   tank. :func:`dam_break` returns Martin & Moyce's dimensionless surge-front position
   ``Z = z/a`` against ``T = t √(2g/a)``, with ``z`` the front's distance from the back wall.
-- :data:`MARTIN_MOYCE`: their measured front (n² = 2, a = 2.25 in); :func:`ritter_front`:
+- :data:`MARTIN_MOYCE`: their measured front (n² = 2, a = 2.25 in), and
+  :func:`front_errors`, a run's front against it (with a release delay); :func:`ritter_front`:
   Ritter's (1892) shallow-water front, which advances at ``2√(g h₀)``: ``Z = 1 + 2T``
   for ``h₀ = 2a``.
 
@@ -39,6 +40,21 @@ def ritter_front(T) -> np.ndarray:
     """Ritter's (1892) dam-break front for a column of height ``2a``, in Martin & Moyce's
     variables: it moves at ``2√(g · 2a)``, so ``Z = 1 + 2T``."""
     return 1.0 + 2.0 * np.asarray(T, dtype=float)
+
+
+def front_errors(t, z, a: float, table=None, delay: float = 0.0, g: float = G) -> np.ndarray:
+    """Relative errors ``Z_run / Z - 1`` of a simulated front at the times of ``table``.
+
+    ``t`` (s, increasing) and ``z`` (m, from the back wall) are the run's times and fronts
+    for a column of width ``a`` (m); ``table`` (K, 2) holds ``(T, Z)`` in Martin & Moyce's
+    variables (default :data:`MARTIN_MOYCE`). The run is turned into ``T = t √(2g/a)``,
+    ``Z = z/a``, delayed by ``delay`` (its front at ``T`` is the one it had at ``T - delay``)
+    and interpolated linearly at the table's times.
+    """
+    table = MARTIN_MOYCE if table is None else np.asarray(table, dtype=float)
+    T_run = np.asarray(t, dtype=float) * np.sqrt(2.0 * g / a)
+    Z_run = np.asarray(z, dtype=float) / a
+    return np.interp(table[:, 0] - delay, T_run, Z_run) / table[:, 1] - 1.0
 
 
 def lattice(width: float, height: float, spacing: float, origin=(0.0, 0.0)) -> np.ndarray:

@@ -4,8 +4,9 @@
 :class:`~course_lib.sph.params.Params`, and advances them with one of :data:`METHODS`
 (``"wcsph"``: Becker & Teschner 2007; ``"iisph"``: Ihmsen et al. 2014), each at its own
 CFL step unless given one. It records, for every step, the step, the solver's sweeps, the
-number of pairs and the density error at the start of the step (mean and largest
-``max(ρ/ρ₀ - 1, 0)``: the compression; a free surface's lower density is not an error).
+number of pairs, the density error at the start of the step (mean and largest
+``max(ρ/ρ₀ - 1, 0)``: the compression; a free surface's lower density is not an error) and
+the fastest particle's speed at its end.
 A run that turns non-finite, or whose fastest particle passes ``params.speed_limit``,
 stops with :attr:`Simulation.message` saying where.
 Core module.
@@ -63,7 +64,7 @@ class Simulation:
             raise ValueError(f"v must be finite with the shape of x, {self.x.shape}, got {self.v.shape}")
         self.p = np.zeros(len(self.x))
         self.history = {k: [] for k in ("t", "dt", "iterations", "pairs", "density_error",
-                                        "max_density_error")}
+                                        "max_density_error", "speed")}
 
     @property
     def n(self) -> int:
@@ -102,7 +103,8 @@ class Simulation:
         compression = np.maximum(info["rho"] / self.params.rho0 - 1.0, 0.0)
         for key, value in (("t", self.t), ("dt", info["dt"]), ("iterations", info["iterations"]),
                            ("pairs", info["pairs"]), ("density_error", float(compression.mean())),
-                           ("max_density_error", float(compression.max(initial=0.0)))):
+                           ("max_density_error", float(compression.max(initial=0.0))),
+                           ("speed", speed)):
             self.history[key].append(value)
         return info
 
@@ -110,7 +112,7 @@ class Simulation:
             on_step=None) -> Frames:
         """Step until ``t_end`` (s). With ``frame_dt`` (s) the steps before each frame time
         are made equal so as to land on it, and the state is saved there (and at the start). ``on_step(sim)``
-        is called after each step. Stops early if the run turns unstable."""
+        is called after each step that succeeded. Stops early if the run turns unstable."""
         if not (np.isfinite(t_end) and t_end > self.t):
             raise ValueError(f"t_end must be a time after t = {self.t} s, got {t_end!r}")
         if frame_dt is not None and not (np.isfinite(frame_dt) and frame_dt > 0):
@@ -125,7 +127,9 @@ class Simulation:
             remaining = min(t_end, next_frame) - self.t
             parts = max(1, int(np.ceil(remaining / self._cfl() * (1 - 1e-9))))
             self.step(dt_max=remaining / parts)
-            if self.stable and self.t >= next_frame * (1 - 1e-12):
+            if not self.stable:
+                break
+            if self.t >= next_frame * (1 - 1e-12):
                 frames.append(self._frame())
                 next_frame += frame_dt
             if on_step is not None:
