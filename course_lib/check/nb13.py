@@ -155,7 +155,8 @@ def density(ck: Checker, func) -> None:
         if got.shape == expected.shape and np.all(got <= single) and np.any(got > 1.01 * m * W[0, 0]):
             # every particle got at most one term from each end of its pairs: buffered updates
             hint = ("rho[i] += ... with an index array i that repeats adds only one term per "
-                    "particle (NumPy applies fancy-index updates once); use np.add.at or np.bincount")
+                    "particle (NumPy applies fancy-index updates once)",
+                    "np.add.at(rho, i, values) adds every term; so does np.bincount(i, values, minlength=N)")
         elif not lattice and lattice_ok:
             hint = ("right on the sorted lattice, wrong on scattered particles: find neighbours "
                     "by distance (cKDTree), not by their place in the array")
