@@ -8,9 +8,10 @@
   viscosity forces;
 - :mod:`~course_lib.sph.boundary`: walls of particles (Akinci et al. 2012);
 - :mod:`~course_lib.sph.params`: :class:`Params`, the liquid and its solvers' settings;
-- :mod:`~course_lib.sph.wcsph` (Becker & Teschner 2007) and :mod:`~course_lib.sph.iisph`
-  (Ihmsen et al. 2014): one step each, at its CFL step; :mod:`~course_lib.sph.operators`,
-  IISPH's pressure operators as sparse matrices;
+- :mod:`~course_lib.sph.wcsph` (Becker & Teschner 2007; its acoustic stability limit on
+  the lattice) and :mod:`~course_lib.sph.iisph` (Ihmsen et al. 2014; its Jacobi pressure
+  solve): one step each, at its CFL step; :mod:`~course_lib.sph.operators`, IISPH's
+  pressure operators as sparse matrices;
 - :mod:`~course_lib.sph.simulation`: :class:`Simulation` (state, frames, statistics);
 - :mod:`~course_lib.sph.scenes`: the water column, the dam break and
   :func:`dam_break` -> ``(T, Z)`` against :data:`MARTIN_MOYCE` (:func:`front_errors`).
