@@ -202,7 +202,7 @@ def test_cost_for_target_error(study):
 
 def test_midpoint_and_heun_nearly_equal(study):
     e_mid, e_heun = study["midpoint"][1], study["heun"][1]
-    np.testing.assert_allclose(e_mid[-4:], e_heun[-4:], rtol=1e-3)
+    np.testing.assert_allclose(e_mid[-4:], e_heun[-4:], rtol=1e-5)   # "less than 0.001 %"
     assert not np.array_equal(e_mid, e_heun)
 
 
@@ -211,9 +211,10 @@ def test_midpoint_and_heun_nearly_equal(study):
 
 def test_decay_large_step():
     k, dt, n = 1.0, 3.0, 4
-    closed = check.decay_closed_form(1.0, k, dt, n)
+    closed = cl.amplification_factor("backward_euler", -k * dt).real ** np.arange(n + 1)
     np.testing.assert_allclose(closed, [1, 0.25, 0.0625, 0.015625, 0.00390625], rtol=1e-15)
-    np.testing.assert_allclose(check.decay_newton(1.0, k, dt, n), closed, rtol=1e-12)
+    np.testing.assert_allclose(check.linear_newton([[-k]], [1.0], dt, n)[:, 0], closed,
+                               rtol=1e-12)
     fe = cl.integrate(lambda t, x: -k * x, [1.0], (0.0, n * dt), dt).y[:, 0]
     np.testing.assert_allclose(fe, [1, -2, 4, -8, 16], rtol=1e-15)
     assert cl.amplification_factor("forward_euler", -3.0) == -2
@@ -257,6 +258,8 @@ def _in_place(f, t, y, dt):
     (_in_place, "in place"),
     (lambda f, t, y, dt: y + 0.5 * dt * f(t + 0.5 * dt, y + 0.5 * dt * f(t, y)),
      "the whole dt with the midpoint slope"),
+    (lambda f, t, y, dt: y + 0.5 * dt * (f(t, y) + f(t + 0.5 * dt, y + 0.5 * dt * f(t, y))),
+     "you averaged the start slope with the midpoint slope"),
     (lambda f, t, y, dt: y + dt * f(0.5 * dt, y + 0.5 * dt * f(0.0, y)), "pass the step's time"),
     (lambda f, t, y, dt: y + dt * f(t + 0.3 * dt, y + 0.5 * dt * f(t, y)),
      "predict the state half a step ahead"),
@@ -267,7 +270,7 @@ def test_midpoint_step_mistakes(wrong, hint, capsys):
     assert hint in out
 
 
-@pytest.mark.parametrize("key", ["midpoint_step", "backward_euler_decay", "implicit_midpoint_step"])
+@pytest.mark.parametrize("key", ["midpoint_step", "backward_euler_linear", "implicit_midpoint_step"])
 def test_pending(key, capsys):
     def stub(*args):
         raise NotImplementedError()
@@ -277,36 +280,88 @@ def test_pending(key, capsys):
     assert "pending" in out
 
 
-def test_backward_euler_decay_correct(capsys):
-    status, out = verdict(check.backward_euler_decay, check.decay_closed_form, capsys,
-                          "backward_euler_decay")
-    assert status == "correct", out
-    assert "Newton" in out
+def _be_linear(A, x0, dt, n):
+    A, x = np.asarray(A, dtype=float), np.asarray(x0, dtype=float)
+    states = [x]
+    for _ in range(n):
+        states.append(np.linalg.solve(np.eye(len(x)) - dt * A, states[-1]))
+    return np.array(states)
 
-    def stepping(x0, k, dt, n):  # a loop instead of the power is just as good
-        xs = [x0]
+
+def test_backward_euler_linear_correct(capsys):
+    status, out = verdict(check.backward_euler_linear, _be_linear, capsys, "backward_euler_linear")
+    assert status == "correct", out
+    assert "Newton" in out and RESULTS["nb04.backward_euler_linear"]["total"] == 5
+
+    def inverse_once(A, x0, dt, n):  # the inverse, computed once and applied n times, is as good
+        M = np.linalg.inv(np.eye(len(x0)) - dt * np.asarray(A))
+        out = np.empty((n + 1, len(x0)))
+        out[0] = x0
+        for k in range(n):
+            out[k + 1] = M @ out[k]
+        return out.tolist()
+
+    status, out = verdict(check.backward_euler_linear, inverse_once, capsys, "backward_euler_linear")
+    assert status == "correct", out
+
+
+def _wrap(step):
+    """An answer that applies ``step(A, dt, x)`` n times from float or integer x0."""
+    def answer(A, x0, dt, n):
+        out = [np.asarray(x0, dtype=float)]
         for _ in range(n):
-            xs.append(xs[-1] / (1 + k * dt))
-        return xs
+            out.append(step(np.asarray(A), dt, out[-1]))
+        return np.array(out)
+    return answer
 
-    status, out = verdict(check.backward_euler_decay, stepping, capsys, "backward_euler_decay")
-    assert status == "correct", out
+
+def _int_states(A, x0, dt, n):
+    out = np.zeros((n + 1, len(x0)), dtype=np.asarray(x0).dtype)   # int when x0 is [1, 0]
+    out[0] = x0
+    for k in range(n):
+        out[k + 1] = np.linalg.solve(np.eye(len(x0)) - dt * A, out[k])
+    return out
 
 
 @pytest.mark.parametrize("wrong, hint", [
-    (lambda x0, k, dt, n: x0 * (1 - k * dt) ** np.arange(n + 1), "FORWARD Euler"),
-    (lambda x0, k, dt, n: x0 / (1 - k * dt) ** np.arange(n + 1) if k * dt != 1
-     else np.full(n + 1, x0), "divide by (1 + k dt)"),
-    (lambda x0, k, dt, n: x0 * np.exp(-k * dt * np.arange(n + 1)), "exact solution"),
-    (lambda x0, k, dt, n: x0 / (1 + k) ** np.arange(n + 1), "left out dt"),
-    (lambda x0, k, dt, n: x0 / (1 + k * dt) ** np.arange(1, n + 1), "initial value"),
-    (lambda x0, k, dt, n: x0 / (1 + k * dt) ** np.arange(n), "the last value x_n is missing"),
-    (lambda x0, k, dt, n: x0 / (1 + k * dt) ** np.arange(n + 2), "expected shape"),
+    (_wrap(lambda A, dt, x: x + dt * A @ x), "FORWARD Euler"),
+    (_wrap(lambda A, dt, x: (np.eye(len(x)) - dt * A) @ x), "SOLVE that system"),
+    (_wrap(lambda A, dt, x: np.linalg.solve(np.eye(len(x)) + dt * A, x)), "not (I + dt A)"),
+    (_wrap(lambda A, dt, x: np.linalg.solve(1 - dt * A, x)), "np.eye(d)"),
+    (_wrap(lambda A, dt, x: x @ np.linalg.inv(np.eye(len(x)) - dt * A)), "matrix on the left"),
+    (_wrap(lambda A, dt, x: x / (1 - dt * np.diag(A))), "only when A is diagonal"),
+    (_int_states, "rounded to whole numbers"),
+    (lambda A, x0, dt, n: _be_linear(A, x0, dt, n)[1:], "include the initial state"),
+    (lambda A, x0, dt, n: _be_linear(A, x0, dt, n)[:-1], "the last state x_n is missing"),
+    (lambda A, x0, dt, n: _be_linear(A, x0, dt, n)[-1], "not only the last one"),
+    (lambda A, x0, dt, n: _be_linear(A, x0, dt, n).T, "one row per state"),
+    (_wrap(lambda A, dt, x: np.linalg.solve(np.eye(len(x)) - 0.5 * dt * A, x)),
+     "how is x_next related to x?"),
 ])
-def test_backward_euler_decay_mistakes(wrong, hint, capsys):
-    status, out = verdict(check.backward_euler_decay, wrong, capsys, "backward_euler_decay")
+def test_backward_euler_linear_mistakes(wrong, hint, capsys):
+    status, out = verdict(check.backward_euler_linear, wrong, capsys, "backward_euler_linear")
     assert status == "incorrect"
-    assert hint in out
+    assert hint in out, out
+
+
+def test_backward_euler_linear_exact_solution_is_named():
+    from scipy.linalg import expm
+
+    def exact(A, x0, dt, n):
+        return np.array([expm(np.asarray(A) * dt * k) @ np.asarray(x0, float) for k in range(n + 1)])
+
+    result = evaluate(check.backward_euler_linear, exact)
+    assert result["status"] == "incorrect"
+    assert "that is the exact solution" in "\n".join(result["failed_cases"])
+
+
+def test_backward_euler_linear_fallback_escalates():
+    wrong = _wrap(lambda A, dt, x: np.linalg.solve(np.eye(len(x)) - 0.5 * dt * A, x))
+    first = "\n".join(evaluate(check.backward_euler_linear, wrong)["failed_cases"])
+    assert "how is x_next related to x?" in first and "np.linalg.solve" not in first
+    FAILURES["nb04.backward_euler_linear"] = 1
+    second = "\n".join(evaluate(check.backward_euler_linear, wrong)["failed_cases"])
+    assert "(I - dt A) x_next = x" in second
 
 
 # --- numbers and claims added in review ------------------------------------------------------
@@ -433,21 +488,107 @@ def test_stiff_limits_quoted():
     assert cl.amplification_factor("backward_euler", z).real == pytest.approx(1 / 99, rel=0.01)
 
 
+#: Section 5's table: the fewest steps (and f-evaluations) for an error below each target.
+FEWEST = {
+    1e-4: {"forward_euler": (3147, 3147), "midpoint": (3157, 6314), "rk4": (2266, 9064),
+           "backward_euler": (32, 64), "trapezoidal": (121, 363)},
+    1e-5: {"forward_euler": (3148, 3148), "midpoint": (3292, 6584), "rk4": (2343, 9372),
+           "backward_euler": (315, 630), "trapezoidal": (135, 405)},
+}
+
+
+@pytest.fixture(scope="module")
+def fewest(stiff):
+    """The notebook's bisection: between the grid run that meets a target and the one before."""
+    lesson, rows = stiff
+    out = {}
+    for target in FEWEST:
+        for m in FEWEST[target]:
+            hi = lesson.cheapest(rows, m, target).steps
+            out[m, target] = lesson.fewest_steps(m, target, hi // 2, hi)
+    return out
+
+
 @pytest.mark.roundoff
-def test_stiff_cost_table_quoted(stiff):
+def test_stiff_grid_brackets(stiff):
+    """On the power-of-two grid every explicit run below 4096 steps blows up (the next point
+    down, 2048, has κ dt = 3.07, past every explicit limit); the cheapest grid runs are the
+    brackets the bisection starts from."""
     lesson, rows = stiff
     for m in ("forward_euler", "midpoint", "rk4"):
         for r in rows:
             if r.method == m:
                 assert np.isfinite(r.error) == (r.steps >= 4096), (m, r)
-    quoted = {"forward_euler": (4096, 4096), "midpoint": (4096, 8192), "rk4": (4096, 16384),
-              "backward_euler": (32, 64), "trapezoidal": (128, 384)}
-    for m, (steps, nfev) in quoted.items():
-        best = lesson.cheapest(rows, m, 1e-4)
-        assert (best.steps, best.nfev) == (steps, nfev), (m, best)
-    assert 4096 / 64 == 64 and 16384 / 64 == 256
-    be = lesson.cheapest(rows, "backward_euler", 1e-4)
-    assert f"{be.error:.1e}" == "9.8e-05"
+    assert 1000 * 2 * math.pi / 2048 > 2.786
+    grid = {"forward_euler": 4096, "midpoint": 4096, "rk4": 4096, "backward_euler": 32,
+            "trapezoidal": 128}
+    for m, steps in grid.items():
+        assert lesson.cheapest(rows, m, 1e-4).steps == steps
+
+
+@pytest.mark.roundoff
+def test_fewest_steps_quoted(fewest):
+    """The table's counts are true minima: n meets the target and n - 1 misses it, each by a
+    margin (at least 0.04 % of the target) that no rounding of these runs can close: their
+    round-off is about 1e-13 m, 1e-8 of the smallest target."""
+    for target, table in FEWEST.items():
+        for m, (steps, nfev) in table.items():
+            best, before = fewest[m, target]
+            assert (best.steps, best.nfev) == (steps, nfev), (m, target, best)
+            assert before.steps == steps - 1
+            assert best.error <= target * (1 - 4e-4) and before.error >= target * (1 + 4e-4), (
+                m, target, best.error, before.error)
+
+
+def test_fewest_steps_is_not_fooled_by_a_local_wiggle(fewest, stiff):
+    """Bisection assumes the error crosses the target once: check the neighbourhood of every
+    answer (five counts either side) and the bracket ends."""
+    lesson, _ = stiff
+    for (m, target), (best, _) in fewest.items():
+        n = best.steps
+        rows = lesson.cost_study([m], range(n - 5, n + 6))
+        assert all(r.error > target for r in rows[:5]) and all(r.error <= target for r in rows[5:]), m
+    with pytest.raises(ValueError, match="need error"):
+        lesson.fewest_steps("backward_euler", 1e-4, 64, 128)      # both ends meet the target
+
+
+def test_explicit_counts_sit_just_above_the_stability_limits():
+    n_fe = math.pi * 1000                                       # κ dt < 2
+    n_rk4 = 2 * math.pi * 1000 / cl.max_stable_dt("rk4", -1.0)   # κ dt < 2.785
+    assert f"{n_fe:.1f}" == "3141.6" and f"{n_rk4:.1f}" == "2255.8"
+    assert round(n_fe) == 3142 and round(n_rk4) == 2256
+    for m, limit in (("forward_euler", n_fe), ("midpoint", n_fe), ("rk4", n_rk4)):
+        for target in FEWEST:
+            steps = FEWEST[target][m][0]
+            assert limit < steps < 1.05 * limit, (m, target)
+
+
+def test_quoted_savings():
+    """"49 times fewer ... 142 times fewer"; at 1e-5 "5 times ... (15 against RK4)"."""
+    a, b = FEWEST[1e-4], FEWEST[1e-5]
+    assert round(a["forward_euler"][1] / a["backward_euler"][1]) == 49
+    assert round(a["rk4"][1] / a["backward_euler"][1]) == 142
+    assert round(b["forward_euler"][1] / b["backward_euler"][1]) == 5
+    assert round(b["rk4"][1] / b["backward_euler"][1]) == 15
+    assert b["forward_euler"][0] == a["forward_euler"][0] + 1          # "one step more"
+
+
+def test_backward_euler_error_falls_like_one_over_n(fewest):
+    """"its error falls like 1/n": n × error is the same at both counts within 1 %."""
+    a, b = fewest["backward_euler", 1e-4][0], fewest["backward_euler", 1e-5][0]
+    assert a.steps * a.error == pytest.approx(b.steps * b.error, rel=0.01)
+
+
+def test_trapezoid_error_is_the_leftover_gap(fewest):
+    """"Its error here is the catch-up gap that its zig-zag has not yet removed,
+    |R(-κ dt)|^n": the measured error at each quoted count, within 2 %."""
+    from course_lib.lessons import nb04_beyond_euler as lesson
+
+    gap = abs(lesson.KAPPA / (lesson.KAPPA + 1j))              # |X0 - κ/(κ + i)|, X0 = 0
+    for target in FEWEST:
+        row = fewest["trapezoidal", target][0]
+        R = cl.amplification_factor("trapezoidal", -lesson.KAPPA * 2 * math.pi / row.steps).real
+        assert row.error == pytest.approx(abs(R) ** row.steps * gap, rel=0.02)
 
 
 def test_trapezoid_flips_the_catch_up_gap(stiff):
@@ -583,6 +724,45 @@ def test_implicit_midpoint_rejects_wrong_answers(wrong, hint, capsys):
     assert hint in out
 
 
+def _one_newton_iteration(f, t, y, dt):
+    """One Newton step with a finite-difference Jacobian: close, but not at round-off."""
+    y = np.asarray(y, dtype=float)
+
+    def residual(Y):
+        return Y - y - dt * f(t + 0.5 * dt, 0.5 * (y + Y))
+
+    Y = y + dt * f(t, y)
+    r = residual(Y)
+    jac = np.empty((y.size, y.size))
+    for j in range(y.size):
+        e = np.zeros(y.size)
+        e[j] = 1e-7
+        jac[:, j] = (residual(Y + e.reshape(y.shape)) - r).ravel() / 1e-7
+    return Y - np.linalg.solve(jac, r.ravel()).reshape(y.shape)
+
+
+def test_implicit_midpoint_reports_the_residual_even_where_the_values_print_alike():
+    """Review: one Newton iteration on the stiff decay printed "expected [-0.851852], got
+    [-0.851852]". Every case that misses now reports its residual, against round-off."""
+    result = evaluate(check.implicit_midpoint_step, _one_newton_iteration)
+    assert result["status"] == "incorrect"
+    failed = "\n".join(result["failed_cases"])
+    stiff = next(c for c in result["failed_cases"] if c.startswith("a stiff decay"))
+    assert "residual of" in stiff and "expected [" not in stiff
+    assert "iterate until the residual is at round-off" in failed
+
+
+def test_alike_values_say_how_far_apart_they_are():
+    from course_lib.check import Checker
+    from course_lib.check._answers import close
+
+    ck = Checker("x")
+    close(ck, [-0.8518518], [-0.85185185185], "a case", rtol=1e-9)
+    assert "alike to the printed digits, but 6.1e-08 apart" in ck.failed[0]   # 5.2e-8 / 0.85
+    assert "the check allows 1e-09" in ck.failed[0]
+
+
+
 def test_midpoint_step_accepts_float32(capsys):
     status, out = verdict(check.midpoint_step, lambda f, t, y, dt: _midpoint(f, t, y, dt).astype(
         np.float32), capsys, "midpoint_step")
@@ -621,23 +801,28 @@ PLANTED = [
      "def midpoint_step(f, t, y, dt):\n    k1 = f(t, y)\n"
      "    return y + 0.5 * dt * (k1 + f(t + dt, y + dt * k1))",
      "incorrect", "that is Heun's method"),
-    ("backward_euler_decay", "delegating: the library's implicit solver",
-     "def backward_euler_decay(x0, k, dt, n):\n"
-     "    run = cl.integrate(lambda t, x: -k * x, [x0], (0.0, max(n, 1) * dt), dt,\n"
-     "                       method='backward_euler')\n    return run.y[: n + 1, 0]",
+    ("backward_euler_linear", "delegating: the library's implicit solver",
+     "def backward_euler_linear(A, x0, dt, n):\n"
+     "    run = cl.integrate(lambda t, x: A @ x, x0, (0.0, max(n, 1) * dt), dt,\n"
+     "                       method='backward_euler')\n    return run.y[: n + 1]",
      "incorrect", "uses the reference: your function calls course_lib.integrators.integrate"),
-    ("backward_euler_decay", "delegating: SciPy's Newton (the prompt says no Newton)",
-     "from scipy.optimize import newton\n"
-     "def backward_euler_decay(x0, k, dt, n):\n    xs = [x0]\n    for _ in range(n):\n"
-     "        xs.append(newton(lambda u: u - xs[-1] + dt * k * u, xs[-1]))\n"
+    ("backward_euler_linear", "delegating: SciPy's root finder (one solve needs no Newton)",
+     "from scipy.optimize import fsolve\n"
+     "def backward_euler_linear(A, x0, dt, n):\n    xs = [np.asarray(x0, float)]\n"
+     "    for _ in range(n):\n"
+     "        xs.append(fsolve(lambda u: u - xs[-1] - dt * A @ u, xs[-1]))\n"
      "    return np.array(xs)",
      "incorrect", "uses the reference: your function calls scipy.optimize"),
-    ("backward_euler_decay", "shortcut: x0 = 1 built in (x0 = 2 and 3 break it)",
-     "def backward_euler_decay(x0, k, dt, n):\n    return 1 / (1 + k * dt) ** np.arange(n + 1)",
-     "incorrect", "multiply by x0"),
-    ("backward_euler_decay", "misconception: forward Euler's factor",
-     "def backward_euler_decay(x0, k, dt, n):\n    return x0 * (1 - k * dt) ** np.arange(n + 1)",
-     "incorrect", "is FORWARD Euler"),
+    ("backward_euler_linear", "shortcut: a division per component (the coupled cases break it)",
+     "def backward_euler_linear(A, x0, dt, n):\n"
+     "    factor = 1 / (1 - dt * np.diag(A))\n"
+     "    return np.asarray(x0, float) * factor ** np.arange(n + 1)[:, None]",
+     "incorrect", "only when A is diagonal"),
+    ("backward_euler_linear", "misconception: multiply by (I - dt A) instead of solving",
+     "def backward_euler_linear(A, x0, dt, n):\n    xs = [np.asarray(x0, float)]\n"
+     "    for _ in range(n):\n        xs.append((np.eye(len(x0)) - dt * A) @ xs[-1])\n"
+     "    return np.array(xs)",
+     "incorrect", "SOLVE that system"),
     ("implicit_midpoint_step", "delegating: half a backward Euler step, then extrapolate",
      "def implicit_midpoint_step(f, t, y, dt):\n"
      "    return 2 * cl.backward_euler(f, t, y, dt / 2) - y",

@@ -35,17 +35,20 @@ from . import Checker, Hint
 _ROUNDOFF_FACTOR = 64.0
 
 
-def call(ck: Checker, what: str, func: Callable, *args, **kwargs) -> tuple[bool, object]:
+def call(ck: Checker, what: str, func: Callable, *args, error_hint=None, **kwargs
+         ) -> tuple[bool, object]:
     """``(True, func(*args, **kwargs))``, or ``(False, None)`` after recording the exception.
 
-    ``NotImplementedError`` propagates (the exercise is pending).
+    ``NotImplementedError`` propagates (the exercise is pending). ``error_hint(exc)`` may
+    return the hint for the exception the answer raised (e.g. an IndexError on a 1-D input).
     """
     try:
         return True, func(*args, **kwargs)
     except NotImplementedError:
         raise
     except Exception as exc:  # the student's code failed on this case: say where and how
-        ck.expect(False, what, f"your function raised {type(exc).__name__}: {exc}")
+        ck.expect(False, what, f"your function raised {type(exc).__name__}: {exc}",
+                  error_hint(exc) if error_hint else None)
         return False, None
 
 
@@ -127,9 +130,18 @@ def close(ck: Checker, got, expected, what: str, *, hint: Hint = None,
     if atol is None:
         atol = max(1e-12, rtol * 1e-3 * (float(np.max(np.abs(expected))) if expected.size else 1.0))
     answer = as_array(got)
-    if answer is None or expected.size <= 12 or answer.shape != expected.shape:
+    if answer is None or answer.shape != expected.shape:
         return ck.close(got, expected, what, rtol=rtol, atol=atol, hint=hint, mistakes=mistakes)
     bad = ~np.isclose(answer, expected, rtol=rtol, atol=atol)
+    if expected.size <= 12:
+        if not bad.any():
+            return ck.expect(True, what)
+        for mistake, wrong in (mistakes or {}).items():  # matched at this comparison's tolerance
+            w = np.asarray(wrong, dtype=float)
+            if w.shape == answer.shape and np.allclose(answer, w, rtol=rtol, atol=atol):
+                hint = mistake
+                break
+        return ck.expect(False, what, differ(answer, expected, rtol), hint)
     if not bad.any():
         return ck.expect(True, what)
     if mistakes:
@@ -138,6 +150,24 @@ def close(ck: Checker, got, expected, what: str, *, hint: Hint = None,
     return ck.expect(False, what, f"{int(bad.sum())} of {bad.size} values differ; e.g. row "
                      f"{row}: expected {np.round(expected[row], 6)}, got {np.round(answer[row], 6)}",
                      hint)
+
+
+def _fmt(x) -> str:
+    return np.array2string(np.asarray(x), precision=6, suppress_small=True, separator=", ")
+
+
+def differ(answer, expected, rtol: float) -> str:
+    """"expected ..., got ..."; when the two print alike (equal to 6 digits), also by how
+    much they differ relative to the expected size, and what the check allows."""
+    a, e = _fmt(answer), _fmt(expected)
+    text = f"expected {e}, got {a}"
+    if a == e:
+        answer, expected = np.asarray(answer, dtype=float), np.asarray(expected, dtype=float)
+        scale = max(float(np.max(np.abs(expected))), 1e-300)
+        gap = float(np.max(np.abs(answer - expected))) / scale
+        text += (f" (alike to the printed digits, but {gap:.1e} apart relative to the size; "
+                 f"the check allows {rtol:.0e})")
+    return text
 
 
 def pure_call(ck: Checker, what: str, student: Callable, f: Callable, t: float,

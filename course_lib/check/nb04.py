@@ -4,9 +4,11 @@ Exercises:
 
 - :func:`midpoint_step`: one explicit midpoint (RK2) step ``(f, t, y, dt) -> y_next``,
   compared with :func:`course_lib.midpoint`.
-- :func:`backward_euler_decay`: backward Euler on ``dx/dt = -k x`` in closed form,
-  ``x_n = x0 / (1 + k dt)^n``, compared with both the formula and the general implicit
-  solver (``course_lib.integrate(..., method="backward_euler")``, Newton's method).
+- :func:`backward_euler_linear`: backward Euler on a linear system ``dx/dt = A x``, one
+  linear solve ``(I - dt A) x_next = x`` per step, compared with the general implicit
+  solver (``course_lib.integrate(..., method="backward_euler")``, Newton's method), on
+  coupled, non-symmetric and stiff matrices that a diagonal shortcut or a transposed solve
+  gets wrong.
 - :func:`implicit_midpoint_step`: one step of the implicit midpoint rule, solved to
   round-off, checked on nonlinear, time-dependent, many-particle and stiff problems (where
   fixed-point iteration diverges) against an independent solve, and for keeping ``|X|``
@@ -84,6 +86,8 @@ def midpoint_step(ck: Checker, student) -> None:
             _RETURNED_MID: y_mid,
             "step the whole dt with the midpoint slope, not dt/2":
                 y + 0.5 * dt * f(t + 0.5 * dt, y_mid),
+            ("you averaged the start slope with the midpoint slope: the midpoint method steps "
+             "with the midpoint slope alone"): y + 0.5 * dt * (k1 + f(t + 0.5 * dt, y_mid)),
         }
 
     step_cases(ck, student, _MIDPOINT_CASES, midpoint, mistakes,
@@ -91,67 +95,122 @@ def midpoint_step(ck: Checker, student) -> None:
                      "there", "y_mid = y + (dt/2) f(t, y); y_next = y + dt f(t + dt/2, y_mid)"))
 
 
-_DECAY_CASES = [(1.0, 1.0, 0.1, 10), (2.0, 5.0, 0.5, 6), (1.0, 100.0, 0.1, 5), (3.0, 0.5, 2.0, 0)]
+_J = np.array([[0.0, -1.0], [1.0, 0.0]])
+
+#: (description, A (1/s), x0, dt (s), n): a decay, a damped spring, a stiff pair that is
+#: not diagonal, the vortex, and no step at all. x0 of the spring is given as integers.
+LINEAR_CASES = [
+    ("one decay dx/dt = -x (A = [[-1]]), dt = 0.1 s, n = 10", [[-1.0]], [1.0], 0.1, 10),
+    ("a damped spring x'' = -4x - x', A = [[0, 1], [-4, -1]], x0 = [1, 0], dt = 0.25 s, n = 12",
+     [[0.0, 1.0], [-4.0, -1.0]], [1, 0], 0.25, 12),
+    ("stiff: a fast decay feeding a slow one, A = [[-100, 0], [50, -1]], dt = 0.1 s "
+     "(k dt = 10), n = 5", [[-100.0, 0.0], [50.0, -1.0]], [1.0, 2.0], 0.1, 5),
+    ("the vortex A = [[0, -1], [1, 0]] from (0, 1), dt = 0.5 s, n = 4", _J, [0.0, 1.0], 0.5, 4),
+    ("no step: n = 0", [[0.0, 1.0], [-4.0, -1.0]], [3.0, 0.0], 0.5, 0),
+]
 
 
-def decay_closed_form(x0: float, k: float, dt: float, n: int) -> np.ndarray:
-    """Backward Euler on ``dx/dt = -k x``: ``x_j = x0 / (1 + k dt)^j`` for ``j = 0..n``."""
-    return x0 / (1.0 + k * dt) ** np.arange(n + 1)
+def backward_euler_linear_reference(A, x0, dt: float, n: int) -> np.ndarray:
+    """``[x_0, ..., x_n]``, shape ``(n + 1, d)``: ``(I - dt A) x_{k+1} = x_k``, solved each step."""
+    A, x = np.asarray(A, dtype=float), np.asarray(x0, dtype=float)
+    M = np.eye(len(x)) - dt * A
+    out = [x]
+    for _ in range(n):
+        out.append(np.linalg.solve(M, out[-1]))
+    return np.array(out)
 
 
-def decay_newton(x0: float, k: float, dt: float, n: int) -> np.ndarray:
+def linear_newton(A, x0, dt: float, n: int) -> np.ndarray:
     """The same run by course_lib's general implicit solver (Newton's method)."""
+    A, x0 = np.asarray(A, dtype=float), np.asarray(x0, dtype=float)
     if n == 0:
-        return np.array([float(x0)])
-    traj = integrate(lambda t, x: -k * x, [x0], (0.0, n * dt), dt, method="backward_euler")
-    return traj.y[:, 0]
+        return x0[None, :]
+    return integrate(lambda t, x: A @ x, x0, (0.0, n * dt), dt, method="backward_euler").y
 
 
-@exercise(allow=(), forbid=("scipy.optimize",))
-def backward_euler_decay(ck: Checker, student) -> None:
-    """``student(x0, k, dt, n)`` must return ``[x_0, ..., x_n]`` of backward Euler on decay."""
-    for x0, k, dt, n in _DECAY_CASES:
-        what = f"x0 = {x0:g}, k = {k:g}/s, dt = {dt:g} s (k dt = {k * dt:g}), n = {n}"
-        formula = decay_closed_form(x0, k, dt, n)
-        newton = decay_newton(x0, k, dt, n)
+def _linear_mistakes(A, x0, dt, n) -> dict:
+    A, x0 = np.asarray(A, dtype=float), np.asarray(x0, dtype=float)
+    eye = np.eye(len(x0))
+
+    def run(step):
+        out = [x0]
+        try:
+            for _ in range(n):
+                out.append(step(out[-1]))
+        except np.linalg.LinAlgError:  # this mistake cannot even be made on this case
+            return np.full((n + 1, len(x0)), np.nan)
+        return np.array(out)
+
+    with np.errstate(all="ignore"):
+        diag = 1.0 - dt * np.diag(A)
+        return {
+            "(I + dt A) x is FORWARD Euler: backward Euler takes the slope at the unknown end, "
+            "x_next = x + dt A x_next": run(lambda x: x + dt * A @ x),
+            ("you multiplied by (I - dt A); the unknown is x_next in (I - dt A) x_next = x: "
+             "SOLVE that system (np.linalg.solve)"): run(lambda x: (eye - dt * A) @ x),
+            "sign: x_next = x + dt A x_next gives (I - dt A) x_next = x, not (I + dt A)":
+                run(lambda x: np.linalg.solve(eye + dt * A, x)),
+            ("that is the exact solution e^(A t) x0 (scipy.linalg.expm), not what backward "
+             "Euler computes"): np.array([_expm(A * dt * k) @ x0 for k in range(n + 1)]),
+            ("1 - dt A subtracts dt A from 1 in every entry: the matrix is I - dt A, with "
+             "np.eye(d)"): run(lambda x: np.linalg.solve(1.0 - dt * A, x)),
+            ("solve with the matrix on the left: (I - dt A) x_next = x is "
+             "np.linalg.solve(I - dt A, x), not x @ inv(I - dt A)"):
+                run(lambda x: np.linalg.solve((eye - dt * A).T, x)),
+            ("dividing by 1 - dt A_ii works only when A is diagonal: the components are "
+             "coupled, so solve the whole system"): run(lambda x: x / diag),
+            ("your states were rounded to whole numbers: an array made like x0 = [1, 0] "
+             "(integers) holds integers; build a float array"):
+                run(lambda x: np.trunc(np.linalg.solve(eye - dt * A, x))),
+        }
+
+
+def _expm(M) -> np.ndarray:
+    w, V = np.linalg.eig(np.asarray(M, dtype=complex))
+    return (V @ np.diag(np.exp(w)) @ np.linalg.inv(V)).real
+
+
+@exercise(allow=(), forbid=("scipy.optimize", "scipy.integrate"))
+def backward_euler_linear(ck: Checker, student) -> None:
+    """``student(A, x0, dt, n)`` must return backward Euler's ``[x_0, ..., x_n]`` on
+    ``dx/dt = A x``, shape ``(n + 1, d)``, checked against Newton's method in course_lib."""
+    for what, A, x0, dt, n in LINEAR_CASES:
+        expected = backward_euler_linear_reference(A, x0, dt, n)
         # The two references must agree, or the comparison below would mean nothing.
-        assert np.allclose(formula, newton, rtol=1e-12, atol=1e-15)
-        ok, got = call(ck, what, student, x0, k, dt, n)
+        assert np.allclose(expected, linear_newton(A, x0, dt, n), rtol=1e-10, atol=1e-13)
+        d = len(x0)
+        ok, got = call(ck, what, student, np.array(A, dtype=float), np.array(x0), dt, n)
         if not ok:
             continue
         answer = as_array(got)
-        if answer is not None and answer.shape == (n,) and n > 0:
-            # One value short: which end is missing?
-            if np.allclose(answer, formula[1:], rtol=rtol_for(answer, 1e-10)):
-                hint = "include the initial value x_0 = x0 as the first entry"
-            elif np.allclose(answer, formula[:-1], rtol=rtol_for(answer, 1e-10)):
-                hint = ("your array stops at x_(n-1): the last value x_n is missing (n steps "
-                        "give n + 1 values)")
+        if answer is not None and answer.shape != expected.shape:
+            if answer.shape == (n, d) and n > 0:
+                if np.allclose(answer, expected[1:], rtol=rtol_for(answer, 1e-10)):
+                    hint = "include the initial state x_0 = x0 as the first row"
+                elif np.allclose(answer, expected[:-1], rtol=rtol_for(answer, 1e-10)):
+                    hint = ("your array stops at x_(n-1): the last state x_n is missing (n steps "
+                            "give n + 1 states)")
+                else:
+                    hint = "return the n + 1 states x_0, x_1, ..., x_n, one per row"
+            elif answer.size == d and n > 0:
+                hint = "return every state x_0, ..., x_n as rows, not only the last one"
+            elif answer.size == expected.size:
+                hint = "one row per state: shape (n + 1, d), not (d, n + 1) or flat"
             else:
-                hint = "return the n + 1 values x_0, x_1, ..., x_n"
-            ck.expect(False, what, f"expected {n + 1} values x_0 ... x_n, got {n}", hint)
+                hint = "return the n + 1 states x_0, ..., x_n as an array of shape (n + 1, d)"
+            ck.expect(False, what, f"expected shape {expected.shape}, got {answer.shape}", hint)
             continue
-        j = np.arange(n + 1)
-        mistakes = {
-            "x0 (1 - k dt)^n is FORWARD Euler; backward Euler solves x_next = x + dt (-k x_next) "
-            "for x_next": x0 * (1.0 - k * dt) ** j,
-            "sign: x_next = x - k dt x_next gives x_next (1 + k dt) = x, so divide by "
-            "(1 + k dt)": x0 / (1.0 - k * dt) ** j if k * dt != 1 else np.full(n + 1, np.nan),
-            "x0 e^(-k t) is the exact solution, not what backward Euler computes":
-                x0 * np.exp(-k * dt * j),
-            "the factor is 1/(1 + k dt): you left out dt": x0 / (1.0 + k) ** j,
-            "start from the initial value: multiply by x0": 1.0 / (1.0 + k * dt) ** j,
-        }
-        ok = close(ck, got, formula, what, rtol=1e-10, atol=1e-15, mistakes=mistakes,
-                   hint=("solve x_next = x + dt (-k x_next) for x_next: each step multiplies by "
-                         "the same factor", "x_n = x0 / (1 + k dt)^n"))
+        ok = close(ck, got, expected, what, rtol=1e-10, atol=1e-13,
+                   mistakes=_linear_mistakes(A, x0, dt, n),
+                   hint=("how is x_next related to x? Write backward Euler's equation for "
+                         "dx/dt = A x and solve it for x_next, once per step",
+                         "each step solves (I - dt A) x_next = x for x_next (np.linalg.solve); "
+                         "collect x_0 ... x_n as rows"))
         if ok:
-            ck.passed[-1] += " (matches the closed form and course_lib's Newton solver)"
+            ck.passed[-1] += " (matches course_lib's Newton solver)"
 
 
 # --- the implicit midpoint rule ----------------------------------------------------------
-
-_J = np.array([[0.0, -1.0], [1.0, 0.0]])
 
 
 def swirl(t, X):
@@ -224,31 +283,36 @@ def implicit_midpoint_step(ck: Checker, student) -> None:
         if answer is not None and answer.shape == y.shape and not np.all(np.isfinite(answer)):
             stiff = f is _stiff  # the one case where an iteration that diverges is likely
             ck.expect(False, what, "your step returned NaN or inf",
-                      ("fixed-point iteration Y <- y + dt f(t + dt/2, (y + Y)/2) diverges when "
-                       "dt |∂f/∂y| / 2 > 1, as here: use Newton's method on the residual, with a "
-                       "finite-difference Jacobian") if stiff else
+                      ("fixed-point iteration Y <- y + dt f(t + dt/2, (y + Y)/2) is only sure to "
+                       "converge when dt |∂f/∂y| / 2 < 1, and here it is 12.5: use Newton's method "
+                       "on the residual, with a finite-difference Jacobian") if stiff else
                       "look for a division by zero or an overflow in your iteration")
             continue
         # The residual names the failure for a float64 answer; a float32 one is judged on
         # its value alone (its rounding alone leaves a residual of ~1e-7).
-        if answer is not None and answer.shape == y.shape and rtol_for(answer, 1e-9) == 1e-9:
-            res = answer - y - dt * f(t + 0.5 * dt, 0.5 * (y + answer))
+        if answer is not None and answer.shape == y.shape and rtol_for(answer, 1e-9) == 1e-9 \
+                and not np.allclose(answer, expected, rtol=1e-9, atol=1e-12):
+            with np.errstate(all="ignore"):
+                res = float(np.max(np.abs(answer - y - dt * f(t + 0.5 * dt, 0.5 * (y + answer)))))
             scale = max(1.0, float(np.max(np.abs(y))))
-            if np.max(np.abs(res)) > 1e-8 * scale and not np.allclose(answer, expected, rtol=1e-9):
-                hint = None
-                if np.max(np.abs(answer)) > 10 * scale:
-                    hint = ("your iteration diverged: fixed-point iteration Y <- y + dt f(t + dt/2, "
-                            "(y + Y)/2) only converges when dt |∂f/∂y| / 2 < 1. Use Newton's "
-                            "method on the residual, with a finite-difference Jacobian")
-                for mistake, wrong in ({} if hint else mistakes).items():
-                    if np.allclose(answer, wrong, rtol=rtol_for(answer, 1e-9), atol=1e-12):
-                        hint = mistake
-                        break
-                ck.expect(False, what, f"your Y leaves a residual of {np.max(np.abs(res)):.2g} in "
-                          "Y - y - dt f(t + dt/2, (y + Y)/2) = 0",
-                          hint or "iterate until the residual is at round-off (a few Newton "
-                          "steps; fixed-point iteration converges slowly or not at all)")
-                continue
+            hint = None
+            if np.max(np.abs(answer)) > 10 * scale:
+                hint = ("your iteration diverged: fixed-point iteration Y <- y + dt f(t + dt/2, "
+                        "(y + Y)/2) is only sure to converge when dt |∂f/∂y| / 2 < 1 (then it is "
+                        "a contraction). Use Newton's method on the residual, with a "
+                        "finite-difference Jacobian")
+            for mistake, wrong in ({} if hint else mistakes).items():
+                if np.allclose(answer, wrong, rtol=rtol_for(answer, 1e-9), atol=1e-12):
+                    hint = mistake
+                    break
+            if hint is None and res <= 1e-10 * scale:
+                hint = ("your Y solves the equation but is not the step's answer: another root. "
+                        "Start the iteration close to y (a forward Euler guess)")
+            ck.expect(False, what, f"your Y leaves a residual of {res:.2g} in "
+                      f"Y - y - dt f(t + dt/2, (y + Y)/2) = 0; the check wants round-off, below "
+                      f"1e-10 × {scale:g}", hint or "iterate until the residual is at round-off "
+                      "(a few Newton steps; fixed-point iteration converges slowly or not at all)")
+            continue
         if close(ck, got, expected, what, rtol=1e-9, atol=1e-12,
                  hint="Y = y + dt f(t + dt/2, (y + Y)/2), solved for Y", mistakes=mistakes) \
                 and keeps_norm and answer.ndim == 1:

@@ -15,6 +15,8 @@ at the scale of the motion it is asked to draw.
 - :func:`follower` returns ``f``, its (constant) Jacobian and the exact solution;
 - :func:`cost_study` runs each method with a range of step counts and records the error at
   the end, the right-hand-side evaluations (``Trajectory.nfev``) and the wall-clock time;
+- :func:`fewest_steps` finds, by bisection on the step count, the smallest ``n`` whose run
+  ends within a target error (the true minimum, not the nearest point of a grid);
 - :func:`follower_experiment` is the pure half of the follower explorer (the view is in
   :mod:`course_lib.lessons.nb04_follower_view`): the first steps of every method at one
   ``κ dt``, beside the exact solution and each method's ``R(-κ dt)``.
@@ -100,6 +102,32 @@ def cheapest(rows, method: str, target: float) -> CostRow | None:
     return min(good, key=lambda r: r.nfev) if good else None
 
 
+def fewest_steps(method: str, target: float, lo: int, hi: int, **study) -> tuple[CostRow, CostRow]:
+    """The smallest step count ``n`` in ``(lo, hi]`` whose run of ``method`` ends within
+    ``target`` (m) of the exact state, by bisection on ``n``; returns the rows of ``n`` and
+    of ``n - 1`` (which misses the target).
+
+    ``lo`` must miss the target and ``hi`` meet it (checked), and the error must cross the
+    target once in between: true here, where it falls steadily with ``n`` once a run is
+    stable (the tests scan around each answer). ``study`` goes to :func:`cost_study`.
+    """
+    def run(n: int) -> CostRow:
+        return cost_study([method], [n], **study)[0]
+
+    below, above = run(hi), run(lo)
+    if not (above.error > target >= below.error):
+        raise ValueError(f"{method}: need error({lo}) > {target:g} >= error({hi}); got "
+                         f"{above.error:.3g} and {below.error:.3g}")
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        row = run(mid)
+        if row.error <= target:
+            hi, below = mid, row
+        else:
+            lo, above = mid, row
+    return below, above
+
+
 # --- the follower explorer: κ dt against the first steps and R along the real axis -------
 
 #: The methods the explorer compares, explicit first.
@@ -152,7 +180,7 @@ def follower_experiment(kappa_dt: float, steps: int = 40, kappa: float = KAPPA) 
         stable[m] = abs(R[m]) <= 1.0
     n_exact = np.linspace(0.0, steps, 801)
     x_exact = exact(n_exact * dt, [0.0, 0.0])[:, 0]
-    parts = [f"{_LABELS[m]} R = {R[m]:.3g}" for m in FOLLOWER_METHODS]
+    parts = [f"{_LABELS[m]} R = {R[m]:.4g}" for m in FOLLOWER_METHODS]
     blown = [_LABELS[m] for m in FOLLOWER_METHODS if not stable[m]]
     verdict = (f"κ dt = {kappa_dt:.3g} (dt = {1e3 * dt:.3g} ms): " + ", ".join(parts) + "; "
                + (f"unstable: {', '.join(blown)}" if blown else "all five stable"))

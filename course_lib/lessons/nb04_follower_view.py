@@ -43,7 +43,6 @@ class FollowerPlot(BlitPlot):
                                          color=METHOD_COLORS[m], label=METHOD_LABELS[m])
         ax_x.axhline(0.0, color="0.6", lw=0.8)
         ax_x.set(xlim=(0, 40), ylim=(-1.6, 2.2), xlabel="step n", ylabel="x (m)")
-        ax_x.legend(loc="lower left", fontsize=8, ncol=2)
         self.title_x = ax_x.set_title("", fontsize=10, y=1.01)
         s = np.geomspace(*KAPPA_DT_RANGE, 600)
         for m in FOLLOWER_METHODS:
@@ -57,6 +56,9 @@ class FollowerPlot(BlitPlot):
         self.vline = ax_r.axvline(1.0, color="0.3", lw=1.0, ls=":")
         self.dots = {m: ax_r.plot([], [], _MARKERS[m], color=METHOD_COLORS[m], ms=7,
                                   mec="black")[0] for m in FOLLOWER_METHODS}
+        # one legend for both panels, where no curve goes: an unstable run sweeps the left one
+        ax_r.legend(handles=[self.exact, *self.lines.values()], loc="lower left", fontsize=8,
+                    framealpha=0.95)
         self.title_r = ax_r.set_title("amplification per step on the negative real axis",
                                       fontsize=10, y=1.01)
         fig.subplots_adjust(left=0.06, right=0.98, top=0.86, bottom=0.13, wspace=0.2)
