@@ -48,6 +48,12 @@ def test_counted_ages_and_the_cost_cell():
     ps.step(1 / 60, [0.0, -9.81, 0.0])
     ps.expire()
     assert len(ps) == 7677 == np.sum(age + 1 / 60 < life)
+    # "2323 deletions moved 9.1 million entries (73 MB); ten times the particles, ~7 GB"
+    dead = age + 1 / 60 >= life
+    shifted = (len(ps) - np.cumsum(~dead))[dead].sum()
+    assert dead.sum() == 2323 and f"{shifted / 1e6:.1f}" == "9.1" and f"{8 * shifted / 1e6:.0f}" == "73"
+    # the same fraction of a list ten times longer: deletions and distances both grow tenfold
+    assert 100 * 8 * shifted / 1e9 == pytest.approx(7.3, abs=0.1)
 
 
 def test_reeves_count_numbers():
@@ -58,8 +64,21 @@ def test_reeves_count_numbers():
     assert 100 / 3 + 1 / 6 == pytest.approx(33.5, rel=1e-15)
     se = np.sqrt(33.5 / counts.size)
     assert se == pytest.approx(0.04, abs=0.001) and abs(counts.mean() - 40) < 2 * se
-    se_var = 33.5 * np.sqrt(2 / counts.size)                          # "about 0.3"
-    assert se_var == pytest.approx(0.3, abs=0.04) and abs(counts.var() - 33.5) < 2 * se_var
+    normal_se_var = 33.5 * np.sqrt(2 / counts.size)                   # "the 0.3 of normal counts"
+    assert normal_se_var == pytest.approx(0.3, abs=0.04)
+    # the counts' own fourth moment: kurtosis 1.81 (uniform: 9/5), so the SE is about 0.2
+    y = np.linspace(30.0, 50.0, 200_001)[:-1] + 5e-5                   # y = 40 + 10 U, uniform
+    k = np.arange(29, 52)
+    frac = y - np.floor(y)
+    p = np.array([np.mean(np.where(np.floor(y) == j, 1 - frac, 0) + np.where(np.floor(y) + 1 == j, frac, 0))
+                  for j in k])                                          # P(floor(y + u) = j)
+    mean = p @ k
+    var, mu4 = p @ (k - mean) ** 2, p @ (k - mean) ** 4
+    assert var == pytest.approx(33.5, rel=1e-6) and mu4 / var**2 == pytest.approx(1.81, abs=0.005)
+    se_var = np.sqrt((mu4 - var**2) / counts.size)
+    assert se_var == pytest.approx(0.2, abs=0.02)
+    assert 1 - se_var / normal_se_var == pytest.approx(1 / 3, abs=0.03)                # "a third less"
+    assert abs(counts.var() - 33.5) < 2 * se_var
 
 
 def test_disc_fractions():
@@ -109,7 +128,7 @@ def test_steady_state_numbers():
     assert 1 - measured / 2980 == pytest.approx(0.006, abs=0.001)                 # by the same 0.6 %
     assert abs(given / measured - 1) < 0.0004                                      # 0.03 %
     shortfall_in_se = (40 - run.emitted.mean()) / np.sqrt(33.5 / run.emitted.size)
-    assert 1.8 < shortfall_in_se < 2.6                                             # "about two"
+    assert shortfall_in_se == pytest.approx(2.4, abs=0.05)                         # "about 2.4"
 
 
 @pytest.mark.roundoff
@@ -120,6 +139,11 @@ def test_fire_numbers():
     assert len(s["age"]) == 4274
     assert np.sum(s["temperature"] > 800) == 663 and np.sum(s["temperature"] < 400) == 2468
     assert np.abs(s["temperature"] - nb09.cooled(s["age"])).max() < 1e-9
+    # "one rounding near 1600 K is at most 1.2e-13 K; no particle lives more than 96 steps;
+    # 1e-9 K leaves room for thousands of roundings"
+    half_ulp = np.spacing(1600.0) / 2
+    assert half_ulp < 1.2e-13 and round((2.4 + 0.8) * 30) == 96 >= s["age"].max() * 30 - 1e-9
+    assert 1e-9 / half_ulp > 96 * 10 and 1e-9 / half_ulp > 1000
     # smoke within 100 K of the air after tau ln 13 = 1.0 s
     assert 0.4 * np.log(1300 / 100) == pytest.approx(1.0, abs=0.05)
     assert nb09.cooled(0.4 * np.log(13.0)) == pytest.approx(400.0, rel=1e-12)
@@ -149,6 +173,13 @@ def test_whirlpool_is_second_order():
     assert [f"{e:.3e}" for e in errors] == ["7.977e-04", "1.990e-04", "4.968e-05"]
     assert errors[0] / errors[1] == pytest.approx(4.0, abs=0.02)
     assert errors[1] / errors[2] == pytest.approx(4.0, abs=0.02)
+    # "e^{-ka} R(a) X0, R(a) the rotation by the angle a": it solves dX/da = V(X)
+    x0, a, h = np.array([1.8, 0.3]), 1.7, 1e-5
+    rate = (nb09.whirlpool_exact(a + h, x0) - nb09.whirlpool_exact(a - h, x0)) / (2 * h)
+    x = nb09.whirlpool_exact(a, x0)
+    assert np.allclose(rate, nb09.whirl()(0.0, x[None])[0], atol=1e-8)
+    rotation = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    assert np.allclose(x, np.exp(-0.25 * a) * rotation @ x0)
 
 
 def test_ten_thousand_particles_frame_cost_cell():
@@ -243,6 +274,35 @@ def ROUND(m, v, rng):
     return round(m + v * rng.uniform(-1, 1))
 
 
+def _polar(r, phi):
+    return np.column_stack((r * np.cos(phi), r * np.sin(phi)))
+
+
+def _sorted_per_frame(mean, variance, radius, rng):
+    """Right marginals, but radius and angle each sorted within the frame."""
+    k = ROUND(mean, variance, rng)
+    return _polar(radius * np.sort(np.sqrt(rng.random(k))), np.sort(rng.uniform(0, 2 * np.pi, k)))
+
+
+def _one_radius_per_frame(mean, variance, radius, rng):
+    k = ROUND(mean, variance, rng)
+    return _polar(np.full(k, radius * np.sqrt(rng.random())), rng.uniform(0, 2 * np.pi, k))
+
+
+def _jittered_angles(mean, variance, radius, rng):
+    """Stratified angles: particle i in the i-th slice of the turn (not independent)."""
+    k = ROUND(mean, variance, rng)
+    return _polar(radius * np.sqrt(rng.random(k)), 2 * np.pi * (np.arange(k) + rng.random(k)) / max(k, 1))
+
+
+def _rejection(mean, variance, radius, rng):
+    k, out = ROUND(mean, variance, rng), np.empty((0, 2))
+    while len(out) < k:
+        p = rng.uniform(-radius, radius, (2 * k + 2, 2))
+        out = np.vstack((out, p[np.hypot(*p.T) <= radius]))
+    return out[:k]
+
+
 EMIT_PLANTED = {
     "right": (_emit_right, "correct", None),
     "plain rounding": (_emit_variant(ROUND), "correct", None),
@@ -267,6 +327,16 @@ EMIT_PLANTED = {
     "half a turn": (_emit_variant(ROUND, full_turn=False), "incorrect", "does not cover a full turn"),
     "a square": (lambda m, v, radius, rng: rng.uniform(-radius, radius, (round(m), 2)),
                  "incorrect", "fill a square, not a disc"),
+    "a Gaussian blob (not a square)": (
+        lambda m, v, radius, rng: rng.normal(0, radius / 2, (ROUND(m, v, rng), 2)),
+        "incorrect", "some particles land outside the disc"),
+    "radius and angle sorted within each frame": (_sorted_per_frame, "incorrect",
+                                                  "the particles of one frame depend on each other"),
+    "one radius for every particle of a frame": (_one_radius_per_frame, "incorrect",
+                                                 "the particles of one frame depend on each other"),
+    "angles stratified over the turn within a frame": (_jittered_angles, "incorrect",
+                                                       "the particles of one frame depend on each other"),
+    "rejection sampling from the square": (_rejection, "correct", None),
     "np.random instead of rng": (lambda m, v, radius, rng: _emit_right(m, v, radius, np.random.default_rng()),
                                  "incorrect", "from the generator `rng` you are given"),
 }
@@ -279,6 +349,11 @@ def test_check_emit_planted(planted):
     assert got == status, (planted, messages)
     if nudge:
         assert nudge in messages, (planted, messages)
+    # the spiral hint is for answers whose radius and angle share random numbers, never for
+    # a wrong radius law or a half turn (independent draws), nor for a frame's particles
+    # depending on each other (their own hint says so)
+    spiral = "the radius and the angle move together"
+    assert (spiral in messages) == planted.startswith("one uniform"), (planted, messages)
 
 
 def test_check_emit_escalates_and_is_pending_when_blank(capsys):
@@ -318,15 +393,36 @@ def _expire_some_keys(data, n):
 
 
 def _expire_swap_remove(data, n):
-    i = 0
-    while i < n:
-        if data["age"][i] >= data["lifetime"][i]:
-            n -= 1
+    """Vectorized swap-with-last: the holes in front take the survivors from the back."""
+    alive = data["age"][:n] < data["lifetime"][:n]
+    m = int(alive.sum())
+    holes, movers = np.flatnonzero(~alive[:m]), np.flatnonzero(alive[m:]) + m
+    for a in data.values():
+        a[holes] = a[movers]
+    return m
+
+
+def _expire_loop(data, n):
+    """Right answer, but a Python loop over the particles."""
+    m = 0
+    for i in range(n):
+        if data["age"][i] < data["lifetime"][i]:
             for a in data.values():
-                a[i] = a[n]
-        else:
-            i += 1
-    return n
+                a[m] = a[i]
+            m += 1
+    return m
+
+
+def _expire_returns_dead(data, n):
+    return n - _expire_right(data, n)
+
+
+def _expire_whole_capacity(data, n):
+    alive = data["age"] < data["lifetime"]
+    m = int(alive.sum())
+    for a in data.values():
+        a[:m] = a[alive]
+    return m
 
 
 def _expire_rebind(data, n):
@@ -360,7 +456,16 @@ EXPIRE_PLANTED = {
     "swap with the last (order lost)": (_expire_swap_remove, "incorrect", "original order"),
     "rebinds the arrays": (_expire_rebind, "incorrect", "do not rebind"),
     "keeps the dead": (_expire_inverted, "incorrect", "deleted the living ones"),
+    "a loop over the particles (broken by 200 rows)": (_expire_loop, "incorrect", "no loop over particles"),
+    "right arrays, returns n - m": (_expire_returns_dead, "incorrect", "but the function did not return"),
+    "masks the whole capacity": (_expire_whole_capacity, "incorrect", "only the first n rows are live"),
 }
+
+#: Hints that each name one mistake: an answer must never get another mistake's hint.
+EXPIRE_HINTS = ("a particle whose age has reached its lifetime dies", "wrong in [",
+                "move the survivors to the front", "original order", "do not rebind",
+                "deleted the living ones", "no loop over particles", "but the function did not return",
+                "only the first n rows are live")
 
 
 @pytest.mark.parametrize("planted", sorted(EXPIRE_PLANTED))
@@ -370,6 +475,8 @@ def test_check_expire_planted(planted):
     assert got == status, (planted, messages)
     if nudge:
         assert nudge in messages, (planted, messages)
+    if nudge:
+        assert all(h not in messages for h in EXPIRE_HINTS if h != nudge and h not in nudge), messages
     if planted.startswith("age <="):
         assert "not age <= lifetime" not in messages                  # the nudge only
         assert "not age <= lifetime" in judged(check.expire, answer, attempt=1)[1]
@@ -378,19 +485,22 @@ def test_check_expire_planted(planted):
 def _population_right(mean_counts, dt, lifetime, lifetime_variance):
     mean_counts = np.asarray(mean_counts, dtype=float)
     ages = dt * np.arange(1, mean_counts.size + 1)
-    if lifetime_variance == 0:
-        alive = (ages < lifetime).astype(float)
+    if lifetime_variance == 0:                     # reached within Section 1's tolerance
+        alive = (ages < lifetime * (1 - 4 * np.finfo(float).eps)).astype(float)
     else:
         alive = np.clip((lifetime + lifetime_variance - ages) / (2 * lifetime_variance), 0.0, 1.0)
     return np.convolve(mean_counts, alive)[: mean_counts.size]
 
 
-def _population_with(ages_from=1, strict=True, width=2.0, head=True):
+def _population_with(ages_from=1, strict=True, width=2.0, head=True, tolerance=True, spread=True,
+                     rounded=False, shift=0.0):
     def population(mean_counts, dt, lifetime, lifetime_variance):
         mu = np.asarray(mean_counts, dtype=float)
-        ages = dt * np.arange(ages_from, mu.size + ages_from)
-        if lifetime_variance == 0:
-            alive = (ages < lifetime if strict else ages <= lifetime).astype(float)
+        ages = dt * (np.arange(ages_from, mu.size + ages_from) - shift)
+        life = np.round(lifetime / dt) * dt if rounded else lifetime
+        life = life * (1 - 4 * np.finfo(float).eps) if tolerance else life
+        if lifetime_variance == 0 or not spread:
+            alive = (ages < life if strict else ages <= life).astype(float)
         else:
             alive = np.clip((lifetime + lifetime_variance - ages) / (width * lifetime_variance), 0, 1)
         full = np.convolve(mu, alive)
@@ -417,10 +527,31 @@ POPULATION_PLANTED = {
     "ages from 0 (off by one frame)": (_population_with(ages_from=0), "incorrect",
                                       "has lived j - k + 1 steps"),
     "age <= lifetime with fixed lifetimes (broken by 6 whole frames)":
-        (_population_with(strict=False), "incorrect", "deleted before the count"),
+        (_population_with(strict=False, tolerance=False), "incorrect", "deleted before the count"),
     "the spread taken as V wide": (_population_with(width=1.0), "incorrect", "2V wide"),
     "the tail of the convolution": (_population_with(head=False), "incorrect", "the first frames come first"),
     "nobody dies": (lambda mu, dt, L, V: np.cumsum(mu), "incorrect", "nobody dies"),
+    "no tolerance on the counted age (broken by 5/24 s at 1/24 s)":
+        (_population_with(tolerance=False), "incorrect", "compare it with a tolerance"),
+    "the lifetime rounded to whole frames (broken by 5.3 frames)":
+        (_population_with(rounded=True), "incorrect", "do not round it"),
+    "the lifetime variance ignored": (_population_with(spread=False), "incorrect",
+                                      "not every particle lives exactly L"),
+    "ages at the middle of the frame": (_population_with(shift=0.5), "incorrect",
+                                        "a whole number of steps"),
+    "Little's law less half a frame, capped by the count so far":
+        (lambda mu, dt, L, V: np.minimum(np.cumsum(mu), np.asarray(mu) * (L / dt - 0.5)), "incorrect",
+         "check the survival function at a few ages by hand"),
+    "scipy's FFT convolution": (notebook_answer(
+        "import scipy.signal\n"
+        "def expected_population(mean_counts, dt, lifetime, lifetime_variance):\n"
+        "    ages = dt * np.arange(1, len(mean_counts) + 1)\n"
+        "    if lifetime_variance == 0:\n"
+        "        s = (ages < lifetime * (1 - 1e-15)).astype(float)\n"
+        "    else:\n"
+        "        s = np.clip((lifetime + lifetime_variance - ages) / (2 * lifetime_variance), 0, 1)\n"
+        "    return scipy.signal.fftconvolve(mean_counts, s)[:len(mean_counts)]", "expected_population"),
+        "correct", None),
 }
 
 
@@ -431,12 +562,21 @@ def test_check_expected_population_planted(planted):
     assert got == status, (planted, messages)
     if nudge:
         assert nudge in messages, (planted, messages)
+    assert "clip(" not in messages and "sum over k" not in messages     # never the formula
+    if "uses the reference" not in messages and status != "correct":  # no wall of numbers
+        assert all(len(line) < 400 for line in messages.splitlines()), messages
 
 
 def test_check_expected_population_escalates_and_is_pending_when_blank():
     answer = POPULATION_PLANTED["ages from 0 (off by one frame)"][0]
     assert "not S(0), S(dt)" not in judged(check.expected_population, answer)[1]
     assert "not S(0), S(dt)" in judged(check.expected_population, answer, attempt=1)[1]
+    # the fallback for an unforeseen mistake: a nudge, then how to build it, never the formula
+    little = POPULATION_PLANTED["Little's law less half a frame, capped by the count so far"][0]
+    first = judged(check.expected_population, little)[1]
+    second = judged(check.expected_population, little, attempt=1)[1]
+    assert "by hand" in first and "write S(a)" not in first
+    assert "write S(a)" in second and "clip" not in second
 
     def pending(mean_counts, dt, lifetime, lifetime_variance):
         raise NotImplementedError()

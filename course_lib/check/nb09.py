@@ -2,11 +2,14 @@
 expected population.
 
 The emit check is statistical: it draws 4000 frames and tests the counts (range, mean,
-spread) and the positions (on the disc, uniform by area, all directions, and radius and
-angle *independent*: a 4 × 4 histogram of (r²/R², θ/2π), uniform on the unit square for a
-disc sampled right, judged by a χ² test whose threshold a right answer exceeds once in a
-million runs). No answer may call the library (``allow=()``): the exercise is to write
-Reeves' rules, not to call :func:`course_lib.particles.reeves_count`.
+spread) and the positions: on the disc, uniform by area, all directions, radius and angle
+*independent* of each other, and the particles of one frame independent of each other.
+Independence is judged by χ² on a 4 × 4 table against the product of the table's own row
+and column sums (so a wrong radius law alone does not look like dependence), at a
+threshold independent variables exceed once in a million runs. The expire check runs the
+answer with a budget of lines of Python (no loop over the particles) and names a mistake
+only when the answer's arrays and count are exactly what that mistake gives. No answer may
+call the library (``allow=()``). Case data: :mod:`course_lib.check._nb09_cases`.
 """
 
 from __future__ import annotations
@@ -15,7 +18,9 @@ import numpy as np
 from scipy.stats import chi2
 
 from .. import particles
-from . import Checker, exercise
+from . import Checker, Hint, exercise
+from . import _nb09_cases as _cases
+from ._answers import call_analysis, close
 
 _SEED = 909
 
@@ -32,8 +37,36 @@ def _counts_and_points(func, mean, variance, radius, calls):
     return np.array(counts), np.concatenate(points)
 
 
-#: χ² threshold of the independence test: exceeded by a right answer with probability 1e-6.
-_CHI2_LIMIT = float(chi2.isf(1e-6, 15))
+#: χ² threshold of a test of independence on a 4 × 4 table (9 degrees of freedom):
+#: exceeded by independent variables with probability 1e-6.
+_CHI2_LIMIT = float(chi2.isf(1e-6, 9))
+
+
+def _dependence(a, b) -> float:
+    """χ² of the 4 × 4 table of ``a`` against ``b`` (each in [0, 1]) against the product of
+    its own row and column sums: large only when the two depend on each other, whatever
+    their separate distributions (a wrong radius law alone does not raise it)."""
+    table, _, _ = np.histogram2d(np.clip(a, 0, 1), np.clip(b, 0, 1), bins=4, range=[[0, 1], [0, 1]])
+    expected = table.sum(axis=1, keepdims=True) * table.sum(axis=0, keepdims=True) / max(table.sum(), 1)
+    seen = expected > 0
+    return float(np.sum((table - expected)[seen] ** 2 / expected[seen]))
+
+
+def _pairs_within_frames(counts) -> np.ndarray:
+    """Index of the first particle of the pairs (0, 1), (2, 3), ... of every frame."""
+    start = np.repeat(np.cumsum(counts) - counts, counts)
+    place = np.arange(counts.sum()) - start
+    return np.flatnonzero((place % 2 == 0) & (place + 1 < np.repeat(counts, counts)))
+
+
+def _disc_hint(pts, radius) -> Hint:
+    corners = np.all(np.abs(pts) <= radius * (1 + 1e-12), axis=1).all()
+    if corners and abs(np.mean(np.hypot(*pts.T) > radius) - (1 - np.pi / 4)) < 0.02:
+        return ("x and y drawn independently fill a square, not a disc",
+                "x and y drawn independently fill a square; draw a radius and an angle")
+    return ("some particles land outside the disc: can your radius exceed `radius`?",
+            "draw the radius so that it never exceeds R (r = R √u with u = rng.random(k)) and "
+            "the angle over a full turn")
 
 
 @exercise(allow=())
@@ -81,10 +114,21 @@ def emit(ck: Checker, func) -> None:
               f"variance/√3 = {uniform:.2f}", hint=hint)
     r = np.linalg.norm(pts, axis=1)
     if not ck.expect(r.max() <= radius * (1 + 1e-12), f"every particle lies on the disc of radius {radius:g}",
-                     f"the farthest was at {r.max():.3f}",
-                     hint=("x and y drawn independently fill a square, not a disc",
-                           "x and y drawn independently fill a square; draw a radius and an angle")):
+                     f"the farthest was at {r.max():.3f}", hint=_disc_hint(pts, radius)):
         return
+    area = (r / radius) ** 2                       # uniform on [0, 1] for a disc sampled right
+    turn = np.mod(np.arctan2(pts[:, 1], pts[:, 0]), 2 * np.pi) / (2 * np.pi)
+    first = _pairs_within_frames(counts)
+    within = max(_dependence(area[first], area[first + 1]), _dependence(turn[first], turn[first + 1]))
+    apart = ck.expect(within < _CHI2_LIMIT,
+                      f"the particles of a frame are independent of each other ({first.size} pairs)",
+                      f"χ² = {within:.0f} on a 4 × 4 table of the radii (or angles) of neighbours in "
+                      f"a frame; independent particles stay below {_CHI2_LIMIT:.0f} in all but one run "
+                      "in a million",
+                      hint=("the particles of one frame depend on each other: does each particle get "
+                            "its own random numbers?",
+                            "draw the k radii and the k angles at once (rng.random(k)), one of each per "
+                            "particle; do not share, sort or space them out"))
     inner = np.mean(r < radius / 2)
     se = np.sqrt(0.25 * 0.75 / r.size)
     hint = None
@@ -103,52 +147,71 @@ def emit(ck: Checker, func) -> None:
               f"fractions in the first and third quadrants: {quadrants.round(3)}",
               hint=("the angle does not cover a full turn evenly",
                     "draw the angle uniformly over a full turn, rng.uniform(0, 2π)"))
-    # radius and angle independent: (r²/R², θ/2π) uniform on the unit square
-    theta = np.mod(np.arctan2(pts[:, 1], pts[:, 0]), 2 * np.pi) / (2 * np.pi)
-    grid, _, _ = np.histogram2d(np.clip((r / radius) ** 2, 0, 1), theta, bins=4, range=[[0, 1], [0, 1]])
-    stat = float(np.sum((grid - r.size / 16) ** 2 / (r.size / 16)))
-    ck.expect(stat < _CHI2_LIMIT, "radius and angle are independent (a χ² test on a 4 × 4 histogram)",
-              f"χ² = {stat:.0f} with 15 degrees of freedom; a uniform disc stays below "
-              f"{_CHI2_LIMIT:.0f} in all but one run in a million",
-              hint=("the radius and the angle move together: are they drawn from the same "
-                    "random numbers?",
-                    "draw the radii and the angles from separate calls to rng: one u used for "
-                    "both r = R√u and θ = 2πu puts every particle on one spiral"))
+    stat = _dependence(area, turn)
+    ck.expect(stat < _CHI2_LIMIT, "radius and angle are independent (χ² on a 4 × 4 table)",
+              f"χ² = {stat:.0f} on the table of r²/R² against the angle, with 9 degrees of freedom; "
+              f"independent ones stay below {_CHI2_LIMIT:.0f} in all but one run in a million",
+              hint=None if not apart else
+              ("the radius and the angle move together: are they drawn from the same random numbers?",
+               "draw the radii and the angles from separate calls to rng: one u used for "
+               "both r = R√u and θ = 2πu puts every particle on one spiral"))
 
 
-def _frame(rng, n, capacity):
-    data = {
-        "x": rng.normal(size=(capacity, 3)),
-        "age": np.round(rng.uniform(0.0, 2.0, capacity), 1),
-        "lifetime": np.round(rng.uniform(0.5, 2.0, capacity), 1),
-        "colour": rng.uniform(size=(capacity, 3)),
-    }
-    data["age"][n:] = 0.0                       # dead rows beyond n must be left alone
-    if n > 2:
-        data["age"][1] = data["lifetime"][1]    # exactly at its lifetime: it dies
-    return data
+# --- the expire step ---------------------------------------------------------------------
+
+#: Lines of Python an answer may run per case: a mask and one gather per array take about
+#: ten; a loop over the particles takes at least one per particle (200 in the second case).
+_EXPIRE_LINES = 60
 
 
-def _reference(data, n):
-    keep = data["age"][:n] < data["lifetime"][:n]
-    return {k: v[:n][keep] for k, v in data.items()}
+def _expire_hint(data: dict, n: int, work: dict, m: int, expected: dict) -> Hint:
+    """The hint for a wrong answer: the one usual mistake whose arrays and count it
+    reproduces exactly (none if several do, as when nobody expires)."""
+    survivors = len(expected["age"])
+    if all(np.array_equal(work[k], data[k]) for k in data) and m == survivors:
+        return "move the survivors to the front of every array in `data` (in place)"
+    found = set()
+    for mistake, hint in _cases.EXPIRE_MISTAKES:
+        copy = {k: v.copy() for k, v in data.items()}
+        if mistake(copy, n) == m and all(np.array_equal(copy[k], work[k]) for k in data):
+            found.add(hint)
+    if len(found) == 1:
+        return found.pop()
+    wrong = [k for k in data if not np.array_equal(work[k][:survivors], expected[k])]
+    if not found and m == survivors and len(wrong) < len(data):
+        return f"move the rows of every attribute, not only some: wrong in {wrong}"
+    return None
 
 
 @exercise(allow=())
 def expire(ck: Checker, func) -> None:
-    """``func(data, n) -> m``: delete the expired among the first ``n`` rows, in place."""
+    """``func(data, n) -> m``: delete the expired among the first ``n`` rows, in place,
+    with no loop over the particles (at most :data:`_EXPIRE_LINES` lines of Python run)."""
     rng = np.random.default_rng(_SEED)
     cases = [("9 live of 12 rows, some exactly at their lifetime", 9, 12),
              ("200 live of 256 rows", 200, 256), ("no live particle", 0, 8)]
-    data = _frame(rng, 6, 6)
+    data = _cases.expire_frame(rng, 6, 6)
     data["age"][:] = 0.0
-    cases_data = [(what, _frame(rng, n, cap), n) for what, n, cap in cases]
+    cases_data = [(what, _cases.expire_frame(rng, n, cap), n) for what, n, cap in cases]
     cases_data.append(("nobody expires", data, 6))
     for what, data, n in cases_data:
-        expected = _reference(data, n)                  # before the student's code runs
+        keep = data["age"][:n] < data["lifetime"][:n]
+        expected = {k: v[:n][keep] for k, v in data.items()}   # before the student's code runs
         work = {k: v.copy() for k, v in data.items()}
         arrays = dict(work)
-        m = func(work, n)
+        probe = Checker(ck.name, attempt=ck.attempt)
+        ok, m = call_analysis(probe, what, _EXPIRE_LINES, None, func, work, n)
+        if not ok:
+            if probe.failed and "your function raised" in probe.failed[-1]:
+                ck.failed.extend(probe.failed)
+                continue
+            ck.expect(False, what, f"your function ran more than {_EXPIRE_LINES} lines of Python "
+                      f"on {n} particles: it loops over the particles",
+                      hint=("no loop over particles: one boolean mask of the survivors, then one "
+                            "gather per array",
+                            "alive = data['age'][:n] < data['lifetime'][:n], then for every array "
+                            "a[:m] = a[:n][alive]"))
+            continue
         if any(work[k] is not arrays[k] for k in arrays):
             ck.expect(False, what, "your function replaced arrays in `data` by new ones",
                       hint="write into the preallocated arrays (data[k][:m] = ...), which the "
@@ -158,103 +221,35 @@ def expire(ck: Checker, func) -> None:
             ck.expect(False, what, f"expected the new live count (an int), got {m!r}",
                       hint="return the number of survivors, m")
             continue
-        m = int(m)
-        if m != len(expected["age"]):
-            hint = None
-            if m == n:
-                hint = "you returned n: count the survivors, age < lifetime"
-            elif m == int(np.sum(data["age"][:n] <= data["lifetime"][:n])):
-                hint = ("a particle whose age has reached its lifetime dies",
-                        "a particle whose age has reached its lifetime dies: "
-                        "keep age < lifetime, not age <= lifetime")
-            elif m == n - len(expected["age"]):
-                hint = "you kept the expired particles and deleted the living ones"
-            elif m == int(np.sum(data["age"] < data["lifetime"])):
-                hint = "only the first n rows are live; the rows beyond n are free slots"
-            ck.expect(False, what, f"expected {len(expected['age'])} survivors, got {m}", hint=hint)
+        m, survivors = int(m), len(expected["age"])
+        wrong = [k for k in data if not np.array_equal(work[k][:survivors], expected[k])]
+        if m == survivors and not wrong:
+            ck.expect(True, what)
             continue
-        wrong = [k for k in data if not np.array_equal(work[k][:m], expected[k])]
-        if wrong:
-            same_set = all(np.array_equal(np.sort(work[k][:m], axis=0), np.sort(expected[k], axis=0))
-                           for k in wrong)
-            untouched = all(np.array_equal(work[k], data[k]) for k in data)
-            if untouched:
-                hint = "move the survivors to the front of every array in `data` (in place)"
-            elif same_set:
-                hint = ("keep the survivors in their original order",
-                        "keep the survivors in their original order (data[k][:m] = data[k][:n][alive])")
-            else:
-                hint = f"move the rows of every attribute, not only some: wrong in {wrong}"
-            ck.expect(False, what, f"the first {m} rows of {wrong} are not the survivors", hint=hint)
-            continue
-        ck.expect(True, what)
+        detail = (f"expected {survivors} survivors, got {m}" if m != survivors else
+                  f"the first {m} rows of {wrong} are not the survivors")
+        ck.expect(False, what, detail, hint=_expire_hint(data, n, work, m, expected))
 
 
 # --- the expected population -------------------------------------------------------------
-
-
-def _population_cases():
-    """Schedules that break shortcuts: a burst (the survival function itself), a constant
-    rate (Little's law less half a frame), a ramp that stops (never steady), fixed
-    lifetimes of exactly six frames (is the last frame counted?) and of 5.6 frames, and
-    lifetimes spread down to zero. Steps of 1/8 and 1/16 s are exact in binary."""
-    burst = np.zeros(12)
-    burst[0] = 1000.0
-    ramp = np.concatenate((np.arange(40.0), np.zeros(30)))
-    yield "a burst of 1000 in the first frame, lifetimes 0.5 ± 0.25 s, dt = 1/8 s", burst, 0.125, 0.5, 0.25
-    yield "40 per frame, lifetimes 2.5 ± 0.5 s, dt = 1/30 s", np.full(150, 40.0), 1 / 30, 2.5, 0.5
-    yield ("a ramp 0, 1, ..., 39 per frame, then none; lifetimes 1 ± 0.4 s, dt = 1/16 s",
-           ramp, 0.0625, 1.0, 0.4)
-    yield "5 per frame, every lifetime 0.75 s (6 frames), dt = 1/8 s", np.full(20, 5.0), 0.125, 0.75, 0.0
-    yield "5 per frame, every lifetime 0.7 s (5.6 frames), dt = 1/8 s", np.full(20, 5.0), 0.125, 0.7, 0.0
-    yield "12 per frame, lifetimes 0.5 ± 0.5 s, dt = 1/16 s", np.full(30, 12.0), 0.0625, 0.5, 0.5
-
-
-def _wrong_populations(mu, dt, life, var):
-    """What the usual mistakes return for one case, with the hint each deserves."""
-    n = mu.size
-    ages = np.arange(1, n + 1) * dt
-
-    def spread(s):
-        return np.convolve(mu, s)[:n]
-
-    uniform = (life + var - ages) / (2 * var) if var else None
-    return {  # first match wins: with V = 0, "<=" and "ages from 0" give the same numbers
-        ("a particle whose age has reached its lifetime is deleted before the count",
-         "with fixed lifetimes S(a) = 1 while a < L, and 0 from a = L on (not a <= L)"):
-            spread((ages <= life).astype(float)) if var == 0 else None,
-        ("a particle emitted in frame k has lived j - k + 1 steps when counted after frame j "
-         "(it is stepped in its own frame)",
-         "count ages (j - k + 1) dt: the convolution of the counts with S(dt), S(2 dt), ..., "
-         "not S(0), S(dt), ..."): spread(particles.survival(ages - dt, life, var)),
-        ("nobody dies in your answer: the population only ever grows",
-         "weight each past frame's count by the chance that its particles are still alive"):
-            np.cumsum(mu),
-        ("rate × mean lifetime is the long-run value for a constant rate, not the population "
-         "of every frame", "convolve the counts with the survival function"):
-            mu * life / dt,
-        ("the long-run value, less half a frame, holds for a constant rate once it has settled, "
-         "not for every frame", "convolve the counts with the survival function"):
-            mu * (life / dt - 0.5),
-        ("the lifetimes are spread uniformly over [L - V, L + V], 2V wide",
-         "S(a) falls linearly from 1 at a = L - V to 0 at a = L + V: "
-         "clip((L + V - a) / (2V), 0, 1)"):
-            spread(np.clip(uniform * 2, 0, 1)) if var else None,
-        ("the first frames come first: keep the head of the full convolution",
-         "np.convolve(counts, S)[:frames]"):
-            np.convolve(mu, particles.survival(ages, life, var))[n - 1:],
-    }
 
 
 @exercise(allow=())
 def expected_population(ck: Checker, func) -> None:
     """``func(mean_counts, dt, lifetime, lifetime_variance) -> (frames,)``: E[live count]
     after each frame of emit → step → expire."""
-    for what, mu, dt, life, var in _population_cases():
+    spread_right = True
+    for what, mu, dt, life, var in _cases.population_cases():
         expected = particles.expected_population(mu, dt, life, var)
-        mistakes = {h: w for h, w in _wrong_populations(mu, dt, life, var).items() if w is not None}
         got = func(mu.copy(), dt, life, var)
-        ck.close(got, expected, what, rtol=1e-9, atol=1e-9, mistakes=mistakes,
-                 hint=("check the survival function at a few ages by hand",
-                       "E[N_j] = sum over k <= j of counts[k] × S((j - k + 1) dt), with "
-                       "S(a) = clip((L + V - a) / (2V), 0, 1), or 1 while a < L when V = 0"))
+        # the fine points of fixed lifetimes are named only once spread lifetimes come out
+        # right: a wrong answer can match one of their mistakes on a fixed lifetime by chance
+        named = var > 0 or spread_right
+        right = close(ck, got, expected, what, rtol=1e-9, atol=1e-9,
+                      mistakes=_cases.wrong_populations(mu, dt, life, var) if named else None,
+                      hint=None if not named else
+                      ("check the survival function at a few ages by hand",
+                       "write S(a), the chance that a particle is still alive at age a (for V > 0 "
+                       "and for V = 0); then add up, for every earlier frame, its count times S "
+                       "at the age its particles have when they are counted"))
+        spread_right = spread_right and (right or var == 0)

@@ -21,8 +21,11 @@ TEMPERATURE_COLORS = LinearSegmentedColormap.from_list("fire", [
     (0.0, (0.55, 0.55, 0.55)), (0.12, (0.35, 0.3, 0.3)), (0.3, (0.55, 0.05, 0.0)),
     (0.55, (0.95, 0.35, 0.0)), (0.8, (1.0, 0.75, 0.2)), (1.0, (1.0, 1.0, 0.8))])
 T_RANGE = (300.0, 1600.0)
-#: Colour by age for sparks: white-yellow when young, red, then dark.
-AGE_CMAP = "inferno_r"
+#: Colour by age for sparks: pale yellow when young, orange, red, then violet. Inferno
+#: reversed and cut before its black end, so that the oldest sparks stay visible on the
+#: dark background of the side view.
+AGE_CMAP = LinearSegmentedColormap.from_list(
+    "sparks", plt.get_cmap("inferno_r")(np.linspace(0.0, 0.65, 256)))
 
 
 def oblique(x, elevation: float = 15.0) -> tuple[np.ndarray, np.ndarray]:
@@ -128,7 +131,7 @@ def draw_genesis(snap: dict, radius: float):
     ax1.set(xlabel="x (m)", ylabel="z (m)", aspect="equal", title="from above")
     ax1.legend(loc="upper right", fontsize=8)
     sx, sy = oblique(x[order])
-    ax2.set_facecolor("0.1")
+    ax2.set_facecolor("0.16")
     ax2.grid(False)
     sc = ax2.scatter(sx, sy, **kw)
     ax2.set(xlabel="x (m)", ylabel="screen height (m)", aspect="equal",
