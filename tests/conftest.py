@@ -1,4 +1,5 @@
-"""Settings shared by every unit test: matplotlib off-screen, and Hypothesis profiles.
+"""Settings shared by every unit test: matplotlib off-screen (settings and figures reset
+around each test), and Hypothesis profiles.
 
 Hypothesis profiles, chosen with the environment variable ``HYPOTHESIS_PROFILE``:
 
@@ -15,6 +16,7 @@ A failure found by ``make fuzz`` is fixed, then kept as an ``@example`` or a han
 import os
 
 import matplotlib
+import pytest
 from hypothesis import HealthCheck, settings
 
 matplotlib.use("Agg")  # unit tests draw off-screen; notebook kernels keep the inline backend
@@ -26,6 +28,18 @@ settings.register_profile("dev", deadline=None)
 PROFILE = os.environ.get("HYPOTHESIS_PROFILE", "dev")
 settings.load_profile(PROFILE)
 FUZZ_FACTOR = int(os.environ.get("FUZZ_FACTOR", "10"))
+
+
+@pytest.fixture(autouse=True)
+def _own_matplotlib_state():
+    """Each test starts from the same matplotlib settings and leaves no figure open: test
+    files share a process under pytest-xdist, and a style one lesson sets (dpi, sizes) or a
+    figure another test left open must not change the next test's pictures or counts."""
+    import matplotlib.pyplot as plt
+
+    with matplotlib.rc_context():
+        yield
+    plt.close("all")
 
 
 def pytest_report_header(config):
