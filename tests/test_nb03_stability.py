@@ -8,6 +8,7 @@ import pytest
 import course_lib as cl
 from course_lib.check import FAILURES, REGISTRY, RESULTS, evaluate
 from course_lib.check import nb03 as check
+from course_lib.check._nb03_cases import SLOW_CASES
 from course_lib.lessons import nb03_stability as ex
 
 
@@ -333,18 +334,36 @@ def _bounded(M):
 
 
 def test_check_powers_stay_bounded(capsys):
-    for _, M, expected, _ in check.MATRIX_CASES:
+    for _, M, expected, _, _ in check.MATRIX_CASES:
         assert check.bounded_reference(M) is expected
-    for what, M, expected, _ in check.MATRIX_CASES:
+    for what, M, expected, _, kind in check.MATRIX_CASES:
+        if kind == "overflow":
+            continue  # below
         with np.errstate(over="ignore", invalid="ignore"):
             norms = [np.max(np.abs(np.linalg.matrix_power(np.array(M), n))) for n in (400, 10**6)]
-        if what in check.SLOW_CASES:
+        if what in SLOW_CASES:
             # 400 steps say the opposite of the truth, a million say it
             assert bool(norms[0] < 50) is (not expected) and bool(norms[1] < 50) is expected, what
         elif expected:  # bounded: the powers stay below a fixed size
             assert norms[0] < 1e3, what
         else:
             assert norms[0] > 50, what
+    # the two harmless matrices whose transient passes the largest float: the quoted peaks
+    # (exact, from the closed forms of M^n), and the powers near them overflow
+    big = np.finfo(float).max
+    n = np.arange(1, 20_000)
+    # in units of 1e308, which the peaks themselves would overflow
+    peak1 = np.max(n * 0.999 ** (n - 1)) * 1e-2            # [[a, c], [0, a]]^n: n a^(n-1) c
+    peak2 = np.max((0.9999**n - 0.9998**n) / 1e-4) * 1e-3  # c (a^n - b^n) / (a - b)
+    assert peak1 > big / 1e308 and round(peak1, 1) == 3.7 and round(big / 1e308, 1) == 1.8
+    assert round(peak2, 1) == 2.5 and abs(int(n[np.argmax(0.9999**n - 0.9998**n)]) - 7000) < 100
+    assert abs(int(n[np.argmax(n * 0.999 ** (n - 1))]) - 1000) <= 1
+    for what, M, expected, _, kind in check.MATRIX_CASES:
+        if kind == "overflow":
+            assert expected and big < 4e308
+            with np.errstate(over="ignore", invalid="ignore"):
+                P = np.linalg.matrix_power(np.array(M), 2**13)
+            assert not np.all(np.isfinite(P)), what
     # the quoted numbers of the two slow cases
     jordan = np.array([[0.99999, 1.0], [0.0, 0.99999]])
     peak = max(np.linalg.matrix_power(jordan, n)[0, 1] for n in (50_000, 100_000, 200_000))
@@ -363,6 +382,12 @@ def test_check_powers_stay_bounded(capsys):
     assert "neither grows nor decays" in capsys.readouterr().out
     check.powers_stay_bounded(lambda M: bool(np.linalg.norm(M, 2) <= 1 + 1e-9))
     assert _status("powers_stay_bounded") == "incorrect"
+    out = capsys.readouterr().out
+    assert "a large entry or norm is only a transient" in out and "fixed" not in out
+    # |tr| < 2 and |det| <= 1 (true only for det = 1 matrices): both of its mistakes are named
+    check.powers_stay_bounded(lambda M: bool(abs(np.trace(M)) < 2 and abs(np.linalg.det(M)) <= 1))
+    out = capsys.readouterr().out
+    assert "an eigenvalue of modulus above 1" in out and "|μ| = 1 neither grows" in out
     check.powers_stay_bounded(lambda M: 1)
     assert "expected True or False" in capsys.readouterr().out
     check.powers_stay_bounded(_pending)
@@ -383,7 +408,8 @@ def test_exercise_wording():
     assert len(check.HIDDEN_METHODS) == 3          # "three methods this notebook never shows"
     assert check.LIMIT_RTOL == 0.02                # "within 2 % of the true limit"
     assert len(check.LIMIT_CASES) == 3             # "three linear systems"
-    assert len(check.MATRIX_CASES) == 12           # "the check tries twelve matrices"
+    assert len(check.MATRIX_CASES) == 14           # "the check tries fourteen matrices"
+    assert sum(c[4] == "overflow" for c in check.MATRIX_CASES) == 2   # "two harmless matrices"
 
 
 # --- planted answers: one delegating call, one shortcut the data breaks, one misconception --
@@ -415,6 +441,14 @@ PLANTED = [
     ("stability_function", "shortcut: forward Euler's formula (hidden methods break it)",
      "def stability_function(step, z):\n    return 1 + np.asarray(z, dtype=complex)",
      "incorrect", "you returned forward Euler's 1 + z"),
+    ("stability_function", "shortcut: a real state (the in-place method breaks it)",
+     "def stability_function(step, z):\n    z = np.asarray(z)\n"
+     "    return step(lambda t, y: z * y, 0.0, np.ones(z.shape), 1.0)",
+     "incorrect", "this method updates a copy of y in place"),
+    ("stability_function", "misconception: the modulus |R|",
+     "def stability_function(step, z):\n    z = np.asarray(z, dtype=complex)\n"
+     "    return np.abs(step(lambda t, y: z * y, 0.0, np.ones_like(z), 1.0))",
+     "incorrect", "you returned |R(z)|, the modulus"),
     ("stability_function", "misconception: the change in one step, not the new state",
      "def stability_function(step, z):\n    z = np.asarray(z, dtype=complex)\n"
      "    y0 = np.ones_like(z)\n    return step(lambda t, y: z * y, 0.0, y0, 1.0) - y0",
@@ -439,6 +473,13 @@ PLANTED = [
      "incorrect", "found without a single run: the exercise asks for the limit by experiment"),
     ("largest_stable_dt", "misconception: a few steps are enough",
      _SEARCH.format(n=20, bound=1e3), "incorrect", "took 20 steps: just above the limit"),
+    ("largest_stable_dt", "shortcut: a scan of 50 steps from dt_hi down (too coarse)",
+     "def largest_stable_dt(f, y0, method, dt_hi):\n    y0 = np.asarray(y0, dtype=float)\n"
+     "    for dt in np.linspace(dt_hi, dt_hi / 50, 50):\n"
+     "        run = cl.integrate(f, y0, (0.0, 500 * dt), dt, method,\n"
+     "                           blowup_bound=1e3 * np.max(np.abs(y0)))\n"
+     "        if run.stable:\n            return dt\n    return 0.0",
+     "incorrect", "below the limit: your search tried no step between"),
     ("largest_stable_dt", "the experiment done right",
      _SEARCH.format(n=2000, bound=1e3), "correct", ""),
     ("powers_stay_bounded", "delegating: the checks' own judge",
@@ -451,6 +492,11 @@ PLANTED = [
      "    with np.errstate(all='ignore'):\n        for _ in range(12):\n            P = P @ P\n"
      "    return bool(np.max(np.abs(P)) < 1e3)",
      "incorrect", "a slow growth (|μ| = 1.00001) or a long transient fooled your test"),
+    ("powers_stay_bounded", "shortcut: M^(2^40) by 40 squarings (the overflow cases break it)",
+     "def powers_stay_bounded(M):\n    P = np.array(M)\n"
+     "    with np.errstate(all='ignore'):\n        for _ in range(40):\n            P = P @ P\n"
+     "    return bool(np.all(np.isfinite(P)) and np.max(np.abs(P)) < 1e3)",
+     "incorrect", "a harmless matrix whose transient passes the largest float"),
     ("powers_stay_bounded", "shortcut: a step-by-step loop",
      "def powers_stay_bounded(M):\n    P = np.eye(2)\n    for _ in range(10_000):\n"
      "        P = P @ M\n    return bool(np.max(np.abs(P)) < 1e3)",
@@ -481,3 +527,39 @@ def test_every_exercise_has_its_three_plants():
     assert set(kinds) == {k.split(".")[1] for k in REGISTRY if k.startswith("nb03.")}
     for exercise, found in kinds.items():
         assert {"delegating", "shortcut", "misconception"} <= found, exercise
+
+
+def test_explorer_bullet_midpoint_on_the_oscillator():
+    """"At dt = 0.5 the log panel shows the size rising by about half over the window
+    (|R| = 1.008 per step) ... at θ = 0.1 the size grows by only 0.3 % over the window"."""
+    from course_lib.lessons import nb03_stability as lesson
+
+    wide = lesson.run_experiment("oscillator", "midpoint", dt=0.5, rate=1.0)
+    small = lesson.run_experiment("oscillator", "midpoint", dt=0.1, rate=1.0)
+    assert not wide.stable and not small.stable
+    assert abs(cl.amplification_factor("midpoint", 0.5j)) == pytest.approx(1.008, abs=5e-4)
+    assert 1.4 < wide.size[-1] < 1.6                                   # "about half"
+    assert small.size[-1] - 1 == pytest.approx(0.003, abs=5e-4)        # "only 0.3 %"
+    assert small.size[-1] == pytest.approx((1 + 0.1**4 / 4) ** ((small.size.size - 1) / 2),
+                                           rel=1e-12)                 # |R|^n, |R|² = 1 + θ⁴/4
+
+
+def test_midpoint_boundary_hugs_the_imaginary_axis():
+    """"at z = 0.5i its boundary passes only 0.007 to the left of the axis ... |R(0.5i)| =
+    1.0078", and the inset shows that value."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from scipy.optimize import brentq
+
+    from course_lib.lessons import nb03_regions as regions
+
+    x = brentq(lambda x: abs(cl.amplification_factor("midpoint", complex(x, 0.5))) - 1, -0.1, 0)
+    assert f"{-x:.3f}" == "0.007"
+    assert f"{abs(cl.amplification_factor('midpoint', 0.5j)):.4f}" == "1.0078"
+    fig, ax = plt.subplots()
+    inset = regions.zoom_inset(ax, "midpoint", 0.5j)
+    assert inset.get_xlim() == pytest.approx((-0.03, 0.03)) and x > -0.03
+    assert any("1.0078" in t.get_text() for t in inset.texts)
+    plt.close(fig)

@@ -17,42 +17,19 @@ import numpy as np
 
 from ..stability import amplification_factor, max_stable_dt
 from . import Checker, exercise
-from ._answers import as_array, call, call_analysis, kutta3, one_number, rtol_for
+from ._answers import as_array, call, call_analysis, one_number, rtol_for
+from ._nb03_cases import (
+    HIDDEN_METHODS,
+    MATRIX_CASES,
+    MATRIX_HINTS,
+    POWERS_LINE_BUDGET,
+    TABLE,
+    Z_GRID,
+    Z_SCALAR,
+    cast_hint,
+)
 
 # --- exercise 1: R(z) of a method, from one step ---------------------------------------
-
-
-def _two_half_steps(f, t, y, dt):
-    """Two forward Euler steps of dt/2: R = (1 + z/2)²."""
-    y_half = y + 0.5 * dt * f(t, y)
-    return y_half + 0.5 * dt * f(t + 0.5 * dt, y_half)
-
-
-def _theta_quarter(f, t, y, dt):
-    """The implicit θ-method, θ = 1/4: R = (1 + 3z/4) / (1 - z/4).
-
-    Solves ``u = y + dt (3/4 f(t, y) + 1/4 f(t + dt, u))`` exactly for an ``f`` linear in
-    ``u`` (elementwise), from the residual at ``u = 0`` and ``u = 1``.
-    """
-    known = y + 0.75 * dt * f(t, y)
-
-    def residual(u):
-        return u - known - 0.25 * dt * f(t + dt, u)
-
-    r0 = residual(np.zeros_like(known))
-    r1 = residual(np.ones_like(known))
-    return -r0 / (r1 - r0)
-
-
-#: (name, stepper, exact R) of the methods the check measures.
-HIDDEN_METHODS = [
-    ("two forward Euler half steps", _two_half_steps, lambda z: (1 + z / 2) ** 2),
-    ("Kutta's third-order method", kutta3, lambda z: 1 + z + z**2 / 2 + z**3 / 6),
-    ("the implicit θ-method, θ = 1/4", _theta_quarter, lambda z: (1 + 0.75 * z) / (1 - 0.25 * z)),
-]
-#: The points z (any shape) where R is measured.
-Z_GRID = np.array([[-2.5, -1.0 + 1.0j, 0.3j], [2.0j, -0.5 - 2.0j, 0.8]])
-Z_SCALAR = -1.5 + 0.5j
 
 
 @exercise(allow=())
@@ -62,7 +39,7 @@ def stability_function(ck: Checker, student) -> None:
         for z in (Z_GRID, Z_SCALAR):
             what = (f"{name}, z of shape {np.shape(z)}" if np.ndim(z)
                     else f"{name}, z = {z}")
-            ok, got = call(ck, what, student, stepper, z)
+            ok, got = call(ck, what, student, stepper, z, error_hint=cast_hint)
             if not ok:
                 continue
             expected = np.asarray(R(np.asarray(z, dtype=complex)))
@@ -74,23 +51,27 @@ def stability_function(ck: Checker, student) -> None:
                 answer = answer.reshape(expected.shape)
             if answer.shape != expected.shape:
                 ck.expect(False, what, f"expected shape {expected.shape}, got {answer.shape}",
-                          ("return one R per z, in z's shape",
-                           "return one R per z, in z's shape: take the step with an array y "
-                           "of ones shaped like z and f(t, y) = z * y"))
+                          ("return one value per z, in z's shape",
+                           "return one value per z, in z's shape: one step of an array of "
+                           "states shaped like z gives exactly that"))
                 continue
             rtol = rtol_for(answer, 1e-12)
             if np.allclose(answer, expected, rtol=rtol, atol=rtol):
                 ck.expect(True, what)
                 continue
-            hint = "R(z) is the state after ONE step of dy/dt = z y with dt = 1 from y = 1"
+            hint = ("which test equation, which y0 and which dt make one step return R(z)?",
+                    "R(z) is the state after ONE step of dy/dt = z y with dt = 1 from y = 1")
+            zc = np.asarray(z, dtype=complex)
             mistakes = {
                 "you returned the change R - 1; return the new state y_1 = R(z) y_0":
                     expected - 1,
                 "that is R(z)²: take one step, not two": expected**2,
-                "the imaginary part is lost: start from a complex y "
-                "(np.ones_like(z, dtype=complex)), not a float array": expected.real,
-                "you returned forward Euler's 1 + z; measure the method you are given by "
-                "calling step": 1 + np.asarray(z, dtype=complex),
+                "the imaginary part is lost: start from a complex y, not a float array":
+                    expected.real,
+                ("you returned |R(z)|, the modulus; return R(z) itself, a complex number "
+                 "(its modulus decides stability)"): np.abs(expected),
+                **{f"you returned {name}, a method from the table; measure the method you are "
+                   f"given by calling step": table(zc) for name, table in TABLE.items()},
             }
             for mistake, wrong in mistakes.items():
                 if np.allclose(answer, wrong, rtol=rtol, atol=rtol):
@@ -195,8 +176,15 @@ def _limit_hint(probe: Probe, A, method: str, dt: float, limit: float):
                 f"{_growth(A, method, step):.4f} per step, {grew:.3g}-fold in {n} steps. Run "
                 "thousands of steps, so that a slow growth reaches the bound")
     below = [r for r in runs if dt * (1 + 1e-9) < r[0] < limit]
-    if not below:
-        return None
+    if not below:  # no stable run was mistaken: the search stopped short of the limit
+        above = [r[0] for r in runs if r[0] > dt * (1 + 1e-9)]
+        gap = f"your answer is {1 - dt / limit:.0%} below the limit"
+        if not above:
+            return (f"{gap}, and your search ran no step above it: move up from your last stable "
+                    "step until a run blows up, then narrow the bracket")
+        return (f"{gap}: your search tried no step between {dt:.4g} s (stable) and "
+                f"{min(above):.4g} s (unstable). Narrow that bracket, e.g. by bisection, until "
+                "the two are within 1 %")
     step, n, size = min(below)
     return (f"your run at dt = {step:.4g} s is stable (|R| = {_growth(A, method, step):.5f} ≤ 1) "
             "but counted as unstable: a stable run may grow for a while before it decays",
@@ -232,33 +220,6 @@ def largest_stable_dt(ck: Checker, student) -> None:
 
 # --- exercise 3: do the powers of a step matrix stay bounded? --------------------------
 
-#: (description, M, bounded, why).
-MATRIX_CASES = [
-    ("rotation by 0.3 rad", [[np.cos(0.3), -np.sin(0.3)], [np.sin(0.3), np.cos(0.3)]], True,
-     "|μ| = 1, two distinct eigenvalues"),
-    ("symplectic Euler at ω dt = 2, [[-3, 2], [-2, 1]]", [[-3.0, 2.0], [-2.0, 1.0]], False,
-     "double eigenvalue -1 with one eigenvector: a Jordan block, M^n grows like n"),
-    ("-I", [[-1.0, 0.0], [0.0, -1.0]], True, "double eigenvalue -1, but two eigenvectors"),
-    ("shear [[1, 1], [0, 1]]", [[1.0, 1.0], [0.0, 1.0]], False, "Jordan block at +1"),
-    ("[[0.5, 100], [0, 0.5]]", [[0.5, 100.0], [0.0, 0.5]], True,
-     "spectral radius 0.5: a large transient, then decay"),
-    ("diag(1.01, 0.2)", [[1.01, 0.0], [0.0, 0.2]], False, "an eigenvalue 1.01 > 1"),
-    ("forward Euler on the vortex, dt = 0.5", [[1.0, -0.5], [0.5, 1.0]], False,
-     "|μ| = √1.25 > 1"),
-    ("diag(1, -1)", [[1.0, 0.0], [0.0, -1.0]], True, "|μ| = 1, distinct"),
-    ("[[0.9, 0.9], [-0.9, 0.9]]", [[0.9, 0.9], [-0.9, 0.9]], False, "|μ| = 0.9 √2 > 1"),
-    ("[[1, 0.5], [0, 0.5]]", [[1.0, 0.5], [0.0, 0.5]], True, "eigenvalues 1 and 0.5, distinct"),
-    ("diag(1.00001, 0.5)", [[1.00001, 0.0], [0.0, 0.5]], False,
-     "an eigenvalue 1.00001 > 1: M^n grows 10-fold only after 230 000 steps, but it grows"),
-    ("[[0.99999, 1], [0, 0.99999]]", [[0.99999, 1.0], [0.0, 0.99999]], True,
-     "a Jordan block inside the circle: M^n rises to 37 000 (near n = 100 000), then decays"),
-]
-#: The two matrices above whose powers mislead any fixed number of steps one tries.
-SLOW_CASES = ("diag(1.00001, 0.5)", "[[0.99999, 1], [0, 0.99999]]")
-#: Lines of Python an answer may run per matrix: an analysis needs a few dozen.
-POWERS_LINE_BUDGET = 500
-
-
 def bounded_reference(M, tol: float = 1e-9) -> bool:
     """Do the powers ``M^n`` stay bounded? Spectral radius ≤ 1, and every eigenvalue on the
     unit circle has as many eigenvectors as its multiplicity."""
@@ -277,14 +238,13 @@ def bounded_reference(M, tol: float = 1e-9) -> bool:
 
 @exercise(allow=(), forbid=(np.linalg.matrix_power,))
 def powers_stay_bounded(ck: Checker, student) -> None:
-    """``student(M) -> bool`` on twelve 2×2 matrices; an analysis, not powers of M."""
-    wrong = []
-    answers = []
-    for what, M, expected, why in MATRIX_CASES:
+    """``student(M) -> bool`` on fourteen 2×2 matrices; an analysis, not powers of M."""
+    wrong, kinds, answers = [], [], 0
+    for what, M, expected, why, kind in MATRIX_CASES:
         ok, got = call_analysis(ck, what, POWERS_LINE_BUDGET, (
             "decide from the eigenvalues and eigenvectors of M, not by multiplying M many times",
             "decide from the eigenvalues and eigenvectors of M, not by multiplying M many "
-            "times: no fixed number of steps tells a slow growth from a slow decay"),
+            "times: no number of steps you can afford tells a slow growth from a slow decay"),
             student, np.array(M, dtype=float))
         if not ok and ck.failed and "lines of Python" in ck.failed[-1]:
             break  # one such verdict says it all
@@ -293,30 +253,16 @@ def powers_stay_bounded(ck: Checker, student) -> None:
         if not isinstance(got, bool | np.bool_):
             ck.expect(False, what, f"expected True or False, got {got!r}"[:120])
             continue
-        answers.append((what, expected, bool(got)))
+        answers += 1
         if bool(got) != expected:
             wrong.append(f"{what}: expected {expected} ({why}), got {bool(got)}")
+            kinds.append(kind)
     if not answers:
         return
-    hint = None
-    got_by_case = {w: g for w, _, g in answers}
-    if got_by_case.get("symplectic Euler at ω dt = 2, [[-3, 2], [-2, 1]]") is True \
-            or got_by_case.get("shear [[1, 1], [0, 1]]") is True:
-        hint = ("spectral radius ≤ 1 is not enough: an eigenvalue on the unit circle with fewer "
-                "eigenvectors than its multiplicity (a Jordan block) makes M^n grow like n")
-    elif got_by_case.get("rotation by 0.3 rad") is False or got_by_case.get("-I") is False:
-        hint = ("|μ| = 1 neither grows nor decays: on the unit circle the powers stay bounded "
-                "when each eigenvalue there has a full set of eigenvectors")
-    elif any(w in got_by_case and got_by_case[w] != e for w, _, e, _ in MATRIX_CASES
-             if w in SLOW_CASES):
-        hint = ("a slow growth (|μ| = 1.00001) or a long transient fooled your test: compare "
-                "|μ| with 1 at round-off level",
-                "M^n after a fixed number of steps cannot decide it: growth by 1.00001 per step, "
-                "or a transient that rises for 100 000 steps, fool any count you pick. Decide "
-                "from the eigenvalues, with a tolerance at round-off level (about 1e-7 for a "
-                "Jordan block's split eigenvalues), not wider")
-    elif got_by_case.get("[[0.5, 100], [0, 0.5]]") is False:
-        hint = ("a large entry or norm is only a transient: what decides the long run is the "
-                "spectral radius")
-    ck.expect(not wrong, f"all {len(answers)} matrices judged",
+    # the hints of the two most telling kinds of mistake, nudge first
+    found = [k for k in MATRIX_HINTS if k in kinds][:2]
+    hints = [MATRIX_HINTS[k] for k in found]
+    hint = tuple(" Also: ".join(h if isinstance(h, str) else h[min(i, len(h) - 1)]
+                                for h in hints) for i in range(2)) if hints else None
+    ck.expect(not wrong, f"all {answers} matrices judged",
               "".join(f"\n      {w}" for w in wrong), hint)

@@ -4,7 +4,7 @@
 - :func:`draw_region` shades a method's stable set ``|R(z)| <= 1`` on an axes (for the
   symplectic methods, whose stable set is the open segment ``(-2i, 2i)``, a thick line);
 - :func:`draw_region_panels` draws several methods' regions in a grid of panels, with
-  marked points and their verdicts;
+  marked points and their verdicts; :func:`zoom_inset` magnifies one point of a panel;
 - :func:`draw_growth` plots the size of runs against the step number on a logarithmic
   axis, where ``|R|^n`` is a straight line and an unstable run stays visible.
 
@@ -73,6 +73,33 @@ def draw_region(
         ax.set_xlabel("Re z")
         ax.set_ylabel("Im z")
     return artists
+
+
+def zoom_inset(ax, method: str, z: complex, half: float = 0.03,
+               bounds=(0.64, 0.04, 0.34, 0.4), marker: str = "*"):
+    """An inset in ``ax``: ``method``'s region within ``half`` of the point ``z``, marked,
+    where the whole plane cannot show which side of the boundary ``z`` lies on (the
+    midpoint's region meets the imaginary axis only at 0, but hugs it)."""
+    z = complex(z)
+    window = (z.real - half, z.real + half, z.imag - half, z.imag + half)
+    inset = ax.inset_axes(bounds)
+    draw_region(inset, method, window, label=False, decorate=False)
+    inset.axvline(0, color="0.4", lw=0.8)
+    inset.plot(z.real, z.imag, marker, color="black", ms=9)
+    inset.set(xlim=window[:2], ylim=window[2:], xticks=[z.real - half / 2, z.real],
+              xticklabels=[f"{z.real - half / 2:g}", f"{z.real:g}"], yticks=[], aspect="equal")
+    inset.tick_params(labelsize=7, pad=1)
+    for spine in inset.spines.values():  # a closed frame, whatever the course style hides
+        spine.set_visible(True)
+    inset.text(0.5, 0.97, f"|R({_fmt_point(z)})|\n= {abs(amplification_factor(method, z)):.4f}",
+               transform=inset.transAxes, ha="center", va="top", fontsize=7,
+               bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "none", "pad": 1})
+    ax.indicate_inset_zoom(inset, edgecolor="0.3")
+    return inset
+
+
+def _fmt_point(z: complex) -> str:
+    return f"{z.imag:g}i" if z.real == 0 else f"{z:g}"
 
 
 def draw_region_panels(methods, titles: dict, marks: dict, ncols: int = 3):

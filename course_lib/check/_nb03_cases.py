@@ -1,0 +1,128 @@
+"""Case data of notebook 03's checks (:mod:`course_lib.check.nb03`).
+
+- exercise 1: the methods whose ``R(z)`` the check measures (:data:`HIDDEN_METHODS`, one of
+  them updating a copy of ``y`` in place, so that a real state fails), where (:data:`Z_GRID`,
+  :data:`Z_SCALAR`), and the table's ``R`` an answer may return instead (:data:`TABLE`);
+- exercise 3: the fourteen matrices (:data:`MATRIX_CASES`) with the kind of mistake a wrong
+  verdict on each points to, and the hint of each kind (:data:`MATRIX_HINTS`).
+
+Imports NumPy and :func:`course_lib.check._answers.kutta3`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._answers import kutta3
+
+
+def _two_half_steps(f, t, y, dt):
+    """Two forward Euler steps of dt/2: R = (1 + z/2)². Written as a simulator that reuses
+    its buffers writes it: it updates a copy of ``y`` in place, so the result keeps y's dtype
+    (a real ``y`` cannot hold a complex R: NumPy refuses the cast)."""
+    out = np.array(y, copy=True)
+    out += 0.5 * dt * f(t, out)
+    out += 0.5 * dt * f(t + 0.5 * dt, out)
+    return out
+
+
+def _theta_quarter(f, t, y, dt):
+    """The implicit θ-method, θ = 1/4: R = (1 + 3z/4) / (1 - z/4).
+
+    Solves ``u = y + dt (3/4 f(t, y) + 1/4 f(t + dt, u))`` exactly for an ``f`` linear in
+    ``u`` (elementwise), from the residual at ``u = 0`` and ``u = 1``.
+    """
+    known = y + 0.75 * dt * f(t, y)
+
+    def residual(u):
+        return u - known - 0.25 * dt * f(t + dt, u)
+
+    r0 = residual(np.zeros_like(known))
+    r1 = residual(np.ones_like(known))
+    return -r0 / (r1 - r0)
+
+
+#: (name, stepper, exact R) of the methods the check measures.
+HIDDEN_METHODS = [
+    ("two forward Euler half steps", _two_half_steps, lambda z: (1 + z / 2) ** 2),
+    ("Kutta's third-order method", kutta3, lambda z: 1 + z + z**2 / 2 + z**3 / 6),
+    ("the implicit θ-method, θ = 1/4", _theta_quarter, lambda z: (1 + 0.75 * z) / (1 - 0.25 * z)),
+]
+#: R of the methods in the notebook's table, to name an answer that returns one of them.
+TABLE = {"forward Euler's 1 + z": lambda z: 1 + z,
+          "the midpoint's 1 + z + z²/2": lambda z: 1 + z + z**2 / 2,
+          "RK4's Taylor polynomial": lambda z: 1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24,
+          "backward Euler's 1/(1 - z)": lambda z: 1 / (1 - z),
+          "the trapezoid's (1 + z/2)/(1 - z/2)": lambda z: (1 + z / 2) / (1 - z / 2)}
+COMPLEX_STATE = ("this method updates a copy of y in place, so its result has y's dtype: a "
+                  "real state cannot hold a complex R(z). Start from a complex y")
+
+
+def cast_hint(exc: Exception) -> str | None:
+    """The hint for an answer whose real state met a method that updates it in place."""
+    return COMPLEX_STATE if isinstance(exc, TypeError) and "cast" in str(exc) else None
+
+
+#: The points z (any shape) where R is measured.
+Z_GRID = np.array([[-2.5, -1.0 + 1.0j, 0.3j], [2.0j, -0.5 - 2.0j, 0.8]])
+Z_SCALAR = -1.5 + 0.5j
+
+
+#: (description, M, bounded, why, kind): the kind names the mistake a wrong verdict on it
+#: points to (see :data:`MATRIX_HINTS`).
+MATRIX_CASES = [
+    ("rotation by 0.3 rad", [[np.cos(0.3), -np.sin(0.3)], [np.sin(0.3), np.cos(0.3)]], True,
+     "|μ| = 1, two distinct eigenvalues", "circle"),
+    ("symplectic Euler at ω dt = 2, [[-3, 2], [-2, 1]]", [[-3.0, 2.0], [-2.0, 1.0]], False,
+     "double eigenvalue -1 with one eigenvector: a Jordan block, M^n grows like n", "jordan"),
+    ("-I", [[-1.0, 0.0], [0.0, -1.0]], True, "double eigenvalue -1, but two eigenvectors",
+     "circle"),
+    ("shear [[1, 1], [0, 1]]", [[1.0, 1.0], [0.0, 1.0]], False, "Jordan block at +1", "jordan"),
+    ("[[0.5, 100], [0, 0.5]]", [[0.5, 100.0], [0.0, 0.5]], True,
+     "spectral radius 0.5: a large transient, then decay", "transient"),
+    ("diag(1.01, 0.2)", [[1.01, 0.0], [0.0, 0.2]], False, "an eigenvalue 1.01 > 1", "outside"),
+    ("forward Euler on the vortex, dt = 0.5", [[1.0, -0.5], [0.5, 1.0]], False,
+     "|μ| = √1.25 > 1", "outside"),
+    ("diag(1, -1)", [[1.0, 0.0], [0.0, -1.0]], True, "|μ| = 1, distinct", "circle"),
+    ("[[0.9, 0.9], [-0.9, 0.9]]", [[0.9, 0.9], [-0.9, 0.9]], False, "|μ| = 0.9 √2 > 1",
+     "outside"),
+    ("[[1, 0.5], [0, 0.5]]", [[1.0, 0.5], [0.0, 0.5]], True, "eigenvalues 1 and 0.5, distinct",
+     "circle"),
+    ("diag(1.00001, 0.5)", [[1.00001, 0.0], [0.0, 0.5]], False,
+     "an eigenvalue 1.00001 > 1: M^n grows 10-fold only after 230 000 steps, but it grows",
+     "slow"),
+    ("[[0.99999, 1], [0, 0.99999]]", [[0.99999, 1.0], [0.0, 0.99999]], True,
+     "a Jordan block inside the circle: M^n rises to 37 000 (near n = 100 000), then decays",
+     "slow"),
+    ("[[0.999, 1e306], [0, 0.999]]", [[0.999, 1e306], [0.0, 0.999]], True,
+     "a Jordan block inside the circle: M^n rises to 3.7e308 near n = 1000, past the largest "
+     "float (1.8e308), then decays", "overflow"),
+    ("[[0.9999, 1e305], [0, 0.9998]]", [[0.9999, 1e305], [0.0, 0.9998]], True,
+     "eigenvalues 0.9999 and 0.9998: M^n rises to 2.5e308 near n = 7000, past the largest "
+     "float, then decays", "overflow"),
+]
+#: The hint for a wrong verdict on a matrix of each kind, in order of priority.
+MATRIX_HINTS = {
+    "jordan": ("spectral radius ≤ 1 is not enough: an eigenvalue on the unit circle with fewer "
+               "eigenvectors than its multiplicity (a Jordan block) makes M^n grow like n"),
+    "outside": ("an eigenvalue of modulus above 1 makes M^n grow, however slowly: compare each "
+                "|μ| with 1, not the trace, the determinant or a norm"),
+    "circle": ("|μ| = 1 neither grows nor decays: on the unit circle the powers stay bounded "
+               "when each eigenvalue there has a full set of eigenvectors"),
+    "transient": ("a large entry or norm is only a transient: what decides the long run is the "
+                  "spectral radius"),
+    "overflow": ("a harmless matrix whose transient passes the largest float (1.8e308): its "
+                 "powers overflow to inf or NaN, yet it decays. Decide from the eigenvalues, "
+                 "which never form those powers"),
+    "slow": ("a slow growth (|μ| = 1.00001) or a long transient fooled your test: compare "
+             "|μ| with 1 at round-off level",
+             "a few powers of M cannot decide it: growth by 1.00001 per step shows only after "
+             "hundreds of thousands of steps, a transient may rise for 100 000 steps, and the "
+             "powers of a harmless matrix may overflow. Decide from the eigenvalues, with a "
+             "tolerance at round-off level (about 1e-7 for a Jordan block's split "
+             "eigenvalues), not wider"),
+}
+#: The two matrices above whose powers mislead any affordable number of steps.
+SLOW_CASES = ("diag(1.00001, 0.5)", "[[0.99999, 1], [0, 0.99999]]")
+#: Lines of Python an answer may run per matrix: an analysis needs a few dozen.
+POWERS_LINE_BUDGET = 500
