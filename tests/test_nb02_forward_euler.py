@@ -224,30 +224,74 @@ def test_pending(key, capsys):
     assert "pending" in out
 
 
+def _radius(r0, dt, n, k):
+    return r0 * ((1 - k * dt) ** 2 + dt**2) ** (n / 2)
+
+
 def test_radius_after_correct(capsys):
-    status, out = verdict(check.radius_after, lambda r0, dt, n: r0 * (1 + dt**2) ** (n / 2),
-                          capsys, "radius_after")
+    status, out = verdict(check.radius_after, _radius, capsys, "radius_after")
+    assert status == "correct", out
+    # the step matrix's norm, applied as a power, is the same analysis
+    status, out = verdict(check.radius_after, lambda r0, dt, n, k: r0 * np.linalg.norm(
+        np.linalg.matrix_power(np.array([[1 - k * dt, -dt], [dt, 1 - k * dt]]), n) @ [1, 0]),
+        capsys, "radius_after")
     assert status == "correct", out
 
 
+def test_radius_after_is_what_forward_euler_does_on_the_whirlpool():
+    """The formula against runs of cl.integrate (the check asserts it too), and notebook
+    01's 3 %: the ratio to the exact e^(-kt) after 628 steps of 0.01 s with k = 0.25 /s."""
+    for r0, dt, n, k in [(1.0, 0.5, 3, 0.0), (2.0, 0.1, 63, 0.25), (1.5, 0.5, 6, 3.0)]:
+        field = cl.fields.compose(cl.fields.vortex, cl.fields.scaled(cl.fields.radial, -k))
+        run = cl.integrate(field, [0.0, r0], (0.0, n * dt), dt)
+        assert np.linalg.norm(run.y[-1]) == pytest.approx(_radius(r0, dt, n, k), rel=1e-12)
+    assert _radius(1.0, 0.01, 628, 0.25) * math.exp(0.25 * 6.28) == pytest.approx(1.03, abs=1e-4)
+
+
 @pytest.mark.parametrize("wrong, hint", [
-    (lambda r0, dt, n: r0 * (1 + dt**2) ** n, "square root"),
-    (lambda r0, dt, n: r0 * (1 + dt) ** n, "not 1 + dt"),
-    (lambda r0, dt, n: r0 * (1 + dt**2 / 2) ** n, "only an approximation"),
-    (lambda r0, dt, n: r0 * math.sqrt(1 + n * dt**2), "compound it n times"),
-    (lambda r0, dt, n: (1 + dt**2) ** (n / 2), "starting radius r0"),
-    (lambda r0, dt, n: r0 * math.exp(n * dt), "each step multiplies the radius by the same"),
+    (lambda r0, dt, n, k: r0 * (1 + dt**2) ** (n / 2), "ignores the pull k"),
+    (lambda r0, dt, n, k: r0 * (1 - k * dt) ** n * (1 + dt**2) ** (n / 2),
+     "lengths add in squares"),
+    (lambda r0, dt, n, k: r0 * math.exp(-k * n * dt), "exact whirlpool's radius"),
+    (lambda r0, dt, n, k: r0 * ((1 - k * dt) ** 2 + dt**2) ** n, "by its square root"),
+    (lambda r0, dt, n, k: r0 * (1 - 2 * k * dt + dt**2) ** (n / 2), "(k dt)² is missing"),
+    (lambda r0, dt, n, k: r0 * ((1 + k * dt) ** 2 + dt**2) ** (n / 2), "not 1 + k dt"),
+    (lambda r0, dt, n, k: r0 * abs(1 - k * dt + dt) ** n, "not 1 - k dt + dt"),
+    (lambda r0, dt, n, k: r0 * math.sqrt(max(1 + n * ((1 - k * dt) ** 2 + dt**2 - 1), 0)),
+     "compound it n times"),
+    (lambda r0, dt, n, k: ((1 - k * dt) ** 2 + dt**2) ** (n / 2), "starting radius r0"),
+    (lambda r0, dt, n, k: r0 * math.exp(n * dt), "what does one step do to |X|?"),
 ])
 def test_radius_after_mistakes(wrong, hint, capsys):
     status, out = verdict(check.radius_after, wrong, capsys, "radius_after")
     assert status == "incorrect"
-    assert hint in out
+    assert hint in out, out
+
+
+def test_radius_after_hints_are_nudges_first():
+    """The fallback hint asks a question first; the fuller one (still no formula) follows a
+    second failure. No hint ever prints the answer's formula."""
+    wrong = lambda r0, dt, n, k: r0 * math.exp(n * dt)     # noqa: E731
+    first = "\n".join(evaluate(check.radius_after, wrong)["failed_cases"])
+    FAILURES["nb02.radius_after"] = 1
+    second = "\n".join(evaluate(check.radius_after, wrong)["failed_cases"])
+    for text in (first, second):
+        assert "((1 - k dt)² + dt²)^(n/2)" not in text and "(n/2)" not in text
+    assert "what does one step do" in first and "two perpendicular parts" in second
+
+
+def test_alike_printed_values_say_how_far_apart_they_are():
+    """Review: e^(n dt²/2) printed "expected 1.318977, got 1.318977" for a million steps."""
+    result = evaluate(check.radius_after, lambda r0, dt, n, k: r0 * math.exp(
+        n * (((1 - k * dt) ** 2 + dt**2) - 1) / 2))
+    text = next(c for c in result["failed_cases"] if "n = 1000000" in c)
+    assert "alike to the printed digits, but" in text and "the check allows 1e-10" in text
 
 
 def test_drift_dt_correct(capsys):
     status, out = verdict(check.drift_dt, drift_root, capsys, "drift_dt")
     assert status == "correct", out
-    assert "tol = 0.037" in out  # a tolerance the text never quotes
+    assert "(a tolerance the check draws)" in out  # a tolerance the text never quotes
     # brentq with its default tolerances, and a float32 answer, are right too
     status, out = verdict(check.drift_dt, lambda tol: brentq(
         lambda dt: (math.pi / dt) * math.log1p(dt * dt) - math.log1p(tol), 1e-9, 1.0), capsys,
@@ -271,6 +315,9 @@ def test_drift_dt_correct(capsys):
     (lambda tol: 0.85 * drift_root(tol), "LARGEST"),
     (lambda tol: 1.1 * drift_root(tol), "with a root finder"),
     (lambda tol: -1.0, "expected a step dt > 0"),
+    (lambda tol: drift_root(tol / 100), "tol is a fraction"),
+    (lambda tol: brentq(lambda dt: (math.pi / dt) * math.log1p(dt * dt) - math.log1p(tol),
+                        1e-9, 1.0, xtol=1e-6), "brentq's xtol is an absolute tolerance"),
     (lambda tol: "small", "expected one number"),
     (lambda tol: [0.1, 0.2], "expected one number"),
 ])
@@ -278,6 +325,27 @@ def test_drift_dt_mistakes(wrong, hint, capsys):
     status, out = verdict(check.drift_dt, wrong, capsys, "drift_dt")
     assert status == "incorrect"
     assert hint in out
+
+
+def test_drift_dt_hidden_tolerance():
+    """The third tolerance comes from the answers to the first two: the same for the same
+    answers (so the grader's replay gives the check the same arguments as the student's
+    kernel), between 2 % and 8 %, not moved by a last-bit difference, and its expected step
+    is never printed, even when the answer is wrong."""
+    right = [drift_root(0.01), drift_root(0.1)]
+    tol = check.hidden_tol(right)
+    assert tol == check.hidden_tol([float(np.float64(a)) for a in right])
+    assert tol == check.hidden_tol([a * (1 + 4e-16) for a in right])
+    assert 0.02 <= tol <= 0.08 and tol != check.hidden_tol([0.0031673046, 0.030352145])
+    assert len({check.hidden_tol([a, 0.03]) for a in np.linspace(0.001, 0.01, 50)}) > 40
+    best = check.largest_drift_dt(tol)
+    result = evaluate(check.drift_dt, lambda t: 0.999 * drift_root(t))
+    hidden = next(c for c in result["failed_cases"] if "the check draws" in c)
+    assert f"tol = {tol:g}" not in hidden                 # other answers draw another tol
+    drawn = float(hidden.split("tol = ")[1].split(" ")[0])
+    assert f"{check.largest_drift_dt(drawn):.8g}" not in hidden and "expected" not in hidden
+    assert "within the budget, but it is not the largest" in hidden
+    assert f"{best:.8g}" not in "\n".join(result["failed_cases"])
 
 
 def test_drift_dt_tolerance_follows_from_the_problem():
@@ -298,8 +366,8 @@ def test_forward_euler_step_accepts_float32(capsys):
 
 
 def test_radius_after_accepts_float32_and_one_element_arrays(capsys):
-    for answer in (lambda r0, dt, n: np.float32(r0 * (1 + dt**2) ** (n / 2)),
-                   lambda r0, dt, n: np.array([r0 * (1 + dt**2) ** (n / 2)])):
+    for answer in (lambda r0, dt, n, k: np.float32(_radius(r0, dt, n, k)),
+                   lambda r0, dt, n, k: np.array([_radius(r0, dt, n, k)])):
         status, out = verdict(check.radius_after, answer, capsys, "radius_after")
         assert status == "correct", out
 
@@ -372,15 +440,16 @@ def test_three_grid_order_is_exact_for_a_pure_power_law():
             pytest.approx(p, rel=1e-10)
 
 
-def _observed_order(step, f, y0, T, n, log=np.log2, invert=False):
+def _observed_order(step, f, y0, T, n, log=np.log2, invert=False, norm=np.linalg.norm,
+                    same_n=False):
     ends = []
     for m in (n, 2 * n, 4 * n):
         y, dt, t = np.array(y0, dtype=float), T / m, 0.0
-        for _ in range(m):
+        for _ in range(n if same_n else m):
             y = step(f, t, y, dt)
             t += dt
         ends.append(y)
-    a, b = np.linalg.norm(ends[0] - ends[1]), np.linalg.norm(ends[1] - ends[2])
+    a, b = norm(ends[0] - ends[1]), norm(ends[1] - ends[2])
     return float(log(b / a) if invert else log(a / b))
 
 
@@ -403,6 +472,9 @@ def test_observed_order_check_accepts_right_answers(capsys):
     (lambda step, f, y0, T, n: np.nan, "expected one number"),
     (lambda step, f, y0, T, n: _observed_order(step, f, y0, T, n + 1),
      "run the method to the same end time T with three step sizes"),
+    (lambda *a: _observed_order(*a, norm=lambda d: abs(d[0])), "not one component"),
+    (lambda *a: _observed_order(*a, norm=lambda d: np.max(np.abs(d))), "not the largest component"),
+    (lambda *a: _observed_order(*a, same_n=True), "not n steps of each size"),
 ])
 def test_observed_order_check_rejects_wrong_answers(wrong, hint, capsys):
     status, out = verdict(check.observed_order, wrong, capsys, "observed_order")
@@ -445,24 +517,30 @@ PLANTED = [
      "def forward_euler_step(f, t, y, dt):\n    return y + dt * f(t + dt, y + dt * f(t, y))",
      "incorrect", "the slope must be taken at the START of the step"),
     ("radius_after", "delegating: a library run",
-     "def radius_after(r0, dt, n):\n"
-     "    run = cl.integrate(cl.fields.vortex, [r0, 0.0], (0.0, max(n, 1) * dt), dt)\n"
+     "def radius_after(r0, dt, n, k):\n"
+     "    field = lambda t, X: cl.fields.vortex(t, X) - k * X\n"
+     "    run = cl.integrate(field, [r0, 0.0], (0.0, max(n, 1) * dt), dt)\n"
      "    return float(np.linalg.norm(run.y[n]))",
      "incorrect", "uses the reference: your function calls course_lib.integrators.integrate"),
     ("radius_after", "shortcut: a simulation of one's own (the prompt asks for the analysis)",
-     "def radius_after(r0, dt, n):\n    X = np.array([r0, 0.0])\n    for _ in range(n):\n"
-     "        X = X + dt * np.array([-X[1], X[0]])\n    return float(np.linalg.norm(X))",
-     "incorrect", "the exercise asks for the analysis of Section 3"),
-    ("radius_after", "misconception: no square root",
-     "def radius_after(r0, dt, n):\n    return r0 * (1 + dt**2) ** n",
-     "incorrect", "so |X| grows by the square root"),
+     "def radius_after(r0, dt, n, k):\n    X = np.array([r0, 0.0])\n    for _ in range(n):\n"
+     "        X = X + dt * (np.array([-X[1], X[0]]) - k * X)\n"
+     "    return float(np.linalg.norm(X))",
+     "incorrect", "the exercise asks for the analysis, one formula for any n"),
+    ("radius_after", "shortcut: the vortex's formula (the cases with a pull break it)",
+     "def radius_after(r0, dt, n, k):\n    return r0 * (1 + dt**2) ** (n / 2)",
+     "incorrect", "your answer ignores the pull k"),
+    ("radius_after", "misconception: the two factors multiplied",
+     "def radius_after(r0, dt, n, k):\n    return r0 * (1 - k * dt) ** n * (1 + dt**2) ** (n / 2)",
+     "incorrect", "lengths add in squares (Pythagoras)"),
     ("drift_dt", "delegating: the checks' own solver",
      "from course_lib.check.nb02 import largest_drift_dt\n"
      "def drift_dt(tol):\n    return largest_drift_dt(tol)",
      "incorrect", "uses the reference: your function calls course_lib.check.nb02.largest_drift_dt"),
-    ("drift_dt", "shortcut: the two quoted budgets looked up (tol = 0.037 breaks it)",
-     "def drift_dt(tol):\n    return {0.01: 0.0031673046, 0.1: 0.030352145}[tol]",
-     "incorrect", "KeyError: 0.037"),
+    ("drift_dt", "shortcut: a table of the printed answers (the drawn tolerance breaks it)",
+     "def drift_dt(tol):\n"
+     "    return {0.01: 0.0031673046, 0.1: 0.030352145, 0.037: 0.011565586}.get(tol, 0.01)",
+     "incorrect", "(a tolerance the check draws): your dt = 0.01 s lets the radius grow by"),
     ("drift_dt", "misconception: (1 + dt²) per step",
      "def drift_dt(tol):\n"
      "    return brentq(lambda dt: (2 * math.pi / dt) * math.log1p(dt * dt) - math.log1p(tol),"
@@ -514,13 +592,13 @@ def test_every_exercise_has_its_three_plants():
 def test_the_analysis_budget_is_lines_not_seconds():
     """A formula runs a few lines for a million steps; a loop is stopped at the budget (at
     once, whatever the machine), and the line count ignores NumPy's own Python code."""
-    formula = planted("def radius_after(r0, dt, n):\n"
+    formula = planted("def radius_after(r0, dt, n, k):\n"
                       "    return float(np.linalg.norm(np.linalg.matrix_power(\n"
-                      "        np.array([[1.0, -dt], [dt, 1.0]]), n) @ [r0, 0.0]))",
+                      "        np.array([[1.0 - k * dt, -dt], [dt, 1.0 - k * dt]]), n) @ [r0, 0.0]))",
                       "radius_after")
     assert evaluate(check.radius_after, formula)["status"] == "correct"
-    caught = planted("def radius_after(r0, dt, n):\n    r = r0\n    for _ in range(n):\n"
-                     "        try:\n            r *= math.sqrt(1 + dt * dt)\n"
+    caught = planted("def radius_after(r0, dt, n, k):\n    r = r0\n    for _ in range(n):\n"
+                     "        try:\n            r *= math.sqrt((1 - k * dt) ** 2 + dt * dt)\n"
                      "        except BaseException:\n            pass\n    return r",
                      "radius_after")
     result = evaluate(check.radius_after, caught)
@@ -544,7 +622,7 @@ def test_spiral_experiment_against_the_theory():
         assert r.t[-1] == pytest.approx(2 * np.pi, rel=1e-14)
         assert r.growth == pytest.approx(r.growth_theory, rel=1e-12)
         assert r.local == pytest.approx(dt**2 / 2, rel=dt**2)   # dt²/2 (1 + O(dt²))
-        assert f"×{r.growth:.4g}" in r.verdict
+        assert f"×{r.growth:.4f}" in r.verdict
     # "about dt = 0.01 s: a radius 3 % too large after one turn"
     assert round(100 * (lesson.spiral_experiment(0.01).growth - 1)) == 3
     with pytest.raises(ValueError, match="dt must lie in"):
@@ -620,14 +698,14 @@ def test_the_budget_reads_the_same_in_the_grader():
     of the same name: the check still reads it as the budget overrun it was."""
     copy = type("TooManyLines", (Exception,), {})
 
-    def replayed(r0, dt, n):
+    def replayed(r0, dt, n, k):
         if n > 1000:
             raise copy("your function ran more than 2000 lines of Python here")
-        return r0 * (1 + dt * dt) ** (n / 2)
+        return _radius(r0, dt, n, k)
 
     result = evaluate(check.radius_after, replayed)
     text = "\n".join(result["failed_cases"])
-    assert result["status"] == "incorrect" and "analysis of Section 3" in text
+    assert result["status"] == "incorrect" and "asks for the analysis" in text
     assert "raised" not in text
 
 

@@ -107,7 +107,7 @@ def spiral_experiment(dt: float) -> SpiralResult:
     error = float(np.linalg.norm(half.y[-1] - [-1.0, 0.0]))
     local = float(np.hypot(1.0 - np.cos(dt), dt - np.sin(dt)))
     verdict = (f"dt = {dt:.3g} s: {run.n_steps} steps per revolution; the radius grows "
-               f"×{growth:.4g} in one revolution (theory ×{theory:.4g}); error at T = π: "
+               f"×{growth:.4f} in one revolution (theory ×{theory:.4f}); error at T = π: "
                f"{error:.2g} m")
     return SpiralResult(dt, run.t, run.y, growth, theory, error, local, verdict)
 

@@ -1,0 +1,100 @@
+"""Case data of notebook 02's order check (:func:`course_lib.check.nb02.observed_order`).
+
+The one-step methods the check hands over (forward Euler, Ralston's and Kutta's methods,
+none written out in the notebook), the problems (a pendulum, the double gyre, a forced
+decay), the check's own three-grid estimate :func:`order_reference`, and
+:func:`order_mistakes`, what the usual slips make of it, keyed by hint. Imports NumPy and
+(lazily) the double gyre of notebook 02's lesson.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._answers import kutta3
+
+
+def _ralston(f, t, y, dt):
+    """Ralston's second-order method."""
+    k1 = f(t, y)
+    k2 = f(t + 2 * dt / 3, y + 2 * dt / 3 * k1)
+    return y + dt * (0.25 * k1 + 0.75 * k2)
+
+
+def _euler(f, t, y, dt):
+    return y + dt * f(t, y)
+
+
+def _pendulum(t, y):
+    """θ'' = -sin θ as y = (θ, ω)."""
+    return np.array([y[1], -np.sin(y[0])])
+
+
+def _gyre(t, X):
+    from ..lessons.nb02_forward_euler import double_gyre
+
+    return double_gyre(t, X)
+
+
+def _forced(t, y):
+    """A decay driven by a force that changes in time: dy/dt = cos 3t - y."""
+    return np.cos(3.0 * t) - y
+
+
+#: (description, step, theory order, f, y0, T, n).
+ORDER_CASES = [
+    ("forward Euler on a pendulum swinging to 115°", _euler, 1, _pendulum, (2.0, 0.0), 3.0, 200),
+    ("Ralston's method on the pendulum", _ralston, 2, _pendulum, (2.0, 0.0), 3.0, 40),
+    ("Kutta's third-order method on the pendulum", kutta3, 3, _pendulum, (2.0, 0.0), 3.0, 40),
+    ("Ralston's method on the double gyre (time-dependent)", _ralston, 2, _gyre, (0.6, 0.3),
+     10.0, 200),
+    ("forward Euler on a forced decay dy/dt = cos 3t - y (time-dependent)", _euler, 1, _forced,
+     (0.5,), 4.0, 100),
+]
+
+
+def order_reference(step, f, y0, T: float, n: int, *, clock=None, same_dt: bool = False,
+                    same_n: bool = False, norm=np.linalg.norm) -> float:
+    """``log2(|X_n - X_2n| / |X_2n - X_4n|)`` from runs of ``n``, ``2n``, ``4n`` steps.
+
+    ``clock(k, dt)`` gives the time passed to the k-th step (default ``k dt``); ``same_dt``
+    runs all three with ``dt = T/n`` (to ``T``, ``2T``, ``4T``); ``same_n`` runs ``n`` steps
+    of each size (to ``T``, ``T/2``, ``T/4``); ``norm`` measures the differences. All exist to
+    recognise mistakes: a clock frozen at 0 or a step ahead, runs that do not end at ``T``, a
+    difference measured on one component.
+    """
+    ends = []
+    for m in (n, 2 * n, 4 * n):
+        y, dt = np.array(y0, dtype=float), T / (n if same_dt else m)
+        for k in range(n if same_n else m):
+            y = step(f, k * dt if clock is None else clock(k, dt), y, dt)
+        ends.append(y)
+    with np.errstate(all="ignore"):
+        return float(np.log2(norm(ends[0] - ends[1]) / norm(ends[1] - ends[2])))
+
+
+def order_mistakes(step, f, y0, T, n, expected) -> dict:
+    return {
+        ("pass the time of each step to step(f, t, y, dt): f depends on t here, and your t "
+         "stayed at 0"): order_reference(step, f, y0, T, n, clock=lambda k, dt: 0.0),
+        ("the k-th step starts at t = k dt: the first step starts at t = 0, not at dt"):
+            order_reference(step, f, y0, T, n, clock=lambda k, dt: (k + 1) * dt),
+        ("all three runs must end at the same time T: use steps of T/n, T/(2n) and T/(4n), "
+         "not the same dt"): order_reference(step, f, y0, T, n, same_dt=True),
+        ("all three runs must end at the same time T: take n, 2n and 4n steps, not n steps of "
+         "each size"): order_reference(step, f, y0, T, n, same_n=True),
+        ("measure the distance between end states over all their components, with a norm "
+         "(np.linalg.norm), not one component"):
+            order_reference(step, f, y0, T, n, norm=lambda d: abs(np.ravel(d)[0])),
+        ("measure the distances with the Euclidean norm |X| of Section 5 (np.linalg.norm), "
+         "not the largest component"):
+            order_reference(step, f, y0, T, n, norm=lambda d: np.max(np.abs(d))),
+        "the ratio is upside down: the coarse difference |X_n - X_2n| goes on top": -expected,
+        "use log base 2 (each grid halves the step), not the natural log":
+            expected * math.log(2),
+        "use log base 2 (each grid halves the step), not log10": expected * math.log10(2),
+        ("return the measured p itself, not rounded to a whole order: the point is to see how "
+         "close the measurement comes"): float(round(expected)),
+    }
