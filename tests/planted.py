@@ -27,6 +27,8 @@ class Plant:
     source: str       #: the answer, as a notebook cell defines it
     status: str       #: the verdict expected: correct, incorrect or pending
     says: str         #: a piece of text the first failed case must hold (its hint), or ""
+    avoid: str = ""   #: a piece of text no failed case may hold (a hint that misfires), or ""
+    attempt: int = 0  #: earlier wrong attempts in the kernel (1: the escalated hint)
 
 
 def define(source: str, name: str, **extra):
@@ -41,15 +43,23 @@ def define(source: str, name: str, **extra):
 
 
 def judge(check_module, plant: Plant) -> dict:
-    """Judge a plant as the grader does (a fresh kernel: the nudge, never the fuller hint)
-    and assert its verdict and hint. Returns the verdict."""
+    """Judge a plant as the grader does (a fresh kernel: the nudge, never the fuller hint;
+    or, with ``plant.attempt``, after that many wrong attempts) and assert its verdict and
+    hint. Returns the verdict."""
     check = getattr(check_module, plant.exercise)
     FAILURES.pop(check.key, None)
-    verdict = evaluate(check, define(plant.source, plant.exercise))
+    if plant.attempt:
+        FAILURES[check.key] = plant.attempt
+    try:
+        verdict = evaluate(check, define(plant.source, plant.exercise))
+    finally:
+        FAILURES.pop(check.key, None)
     failed = "\n".join(verdict["failed_cases"])
     assert verdict["status"] == plant.status, (plant.label, verdict["status"], failed)
     if plant.says:
         assert plant.says in failed, (plant.label, failed)
+    if plant.avoid:
+        assert plant.avoid not in failed, (plant.label, failed)
     if plant.kind == "delegating":
         assert verdict["reference"] and "uses the reference" in verdict["reference"], plant.label
     return verdict

@@ -14,7 +14,7 @@ from .. import springs
 from ..lessons import nb07_spring_runs as lesson
 from . import Checker, exercise
 from ._answers import call_analysis, one_number
-from .tolerance import blown_up, escalate, precision_rtol
+from .tolerance import blown_up, consistent_hint, escalate, precision_rtol
 
 _RNG_SEED = 707
 
@@ -33,30 +33,53 @@ def _cases():
            np.array([-1.0, 0.5, 1.0]), 7.0, 0.25 * np.linalg.norm([2.0, 1.5, -2.0]))
 
 
+def _spring_mistakes(x1, x2, k, rest) -> dict:
+    """The usual wrong forces on particle 1, in the order they are diagnosed (a mistake that
+    only differs on a compressed spring comes before the plain sign error)."""
+    d = x1 - x2
+    length = np.linalg.norm(d)
+    u = d / length
+    right = -k * (length - rest) * u
+    return {
+        escalate("your spring pulls even when it is compressed: the stretch |d| - L is "
+                 "negative then, and the force must change direction with it",
+                 "keep the sign of |d| - L (no absolute value): a compressed spring pushes "
+                 "its ends apart"): -k * abs(length - rest) * u,
+        escalate("sign error: a stretched spring must pull particle 1 towards particle 2",
+                 "d = x1 - x2 points from particle 2 to particle 1; the pull on particle 1 "
+                 "points the other way"): -right,
+        escalate("the force does not vanish at the rest length: Hooke's law acts on the "
+                 "stretch, not on the length",
+                 "you used the length |d| where the stretch |d| - L belongs"): -k * length * u,
+        escalate("the force does not vanish at the rest length: you used the rest length L "
+                 "where the stretch belongs", "the stretch is |d| - L"): -k * rest * u,
+        escalate("the stretch is a number (a length minus a length): you subtracted L from "
+                 "the vector d", "take the length |d| first, then subtract L"): -k * (d - rest),
+        escalate("the size of your force grows with |d| beyond Hooke's law: the direction "
+                 "must be a unit vector", "multiply by d/|d|, not by d"):
+            -k * (length - rest) * d,
+        escalate("the direction must be a unit vector: you divided d by the rest length L",
+                 "divide d by its own length |d|"): -k * (length - rest) * d / rest,
+        escalate("you divided the stretch by the rest length (a strain): here k is in N/m and "
+                 "multiplies the stretch itself, in m", "drop the division by L"):
+            -k * (length - rest) / rest * u,
+    }
+
+
 @exercise(allow=())
 def spring_force(ck: Checker, func) -> None:
     """``func(x1, x2, k, rest)``: Hooke force on particle 1 of a spring in 3D."""
+    results = []
     for what, x1, x2, k, rest in _cases():
         d = x1 - x2
-        length = np.linalg.norm(d)
-        u = d / length
-        expected = -k * (length - rest) * u
+        expected = -k * (np.linalg.norm(d) - rest) * d / np.linalg.norm(d)
         got = func(x1.copy(), x2.copy(), k, rest)
         if blown_up(ck, got, what, run=False):
             continue
-        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9),
-                 atol=1e-12, mistakes={
-            "sign error: the force on particle 1 points from x1 towards x2 when the spring is "
-            "stretched, F1 = -k (|d| - L) d/|d| with d = x1 - x2": -expected,
-            "forgot to normalise: multiply by the unit vector d/|d|, not by d itself":
-                -k * (length - rest) * d,
-            "used the rest length L instead of the stretch |d| - L": -k * rest * u,
-            "used the length |d| instead of the stretch |d| - L": -k * length * u,
-            "the stretch is |d| - L, a scalar: subtract L from the length, not from the "
-            "vector d": -k * (d - rest),
-            "the direction is the unit vector d / |d|: you divided d by the rest length L":
-                -k * (length - rest) * d / rest,
-        })
+        results.append((what, got, expected, _spring_mistakes(x1, x2, k, rest)))
+    hint = consistent_hint([(got, exp, mis) for _, got, exp, mis in results])
+    for what, got, expected, _ in results:
+        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12, hint=hint)
     # Force = -gradient of the spring energy, by central finite differences.
     _, x1, x2, k, rest = next(_cases())
 
@@ -94,8 +117,9 @@ def damped_dt_max(ck: Checker, func) -> None:
         zeta = gamma / (2 * omega)
         what = f"k = {k:g} N/m, m = {m:g} kg, c = {c:g} N s/m (measured {measured:.6f} s)"
         ok, got = call_analysis(ck, what, FORMULA_LINES, (
-            "the exercise asks for the limit from the stability condition, a formula: your "
-            "function searches for it by simulation"), func, k, m, c)
+            "the exercise asks for the limit as a formula, solved from the stability "
+            "condition: your function searches for it step by step (a simulation or a "
+            "bisection)"), func, k, m, c)
         if not ok:
             if "lines of Python" in ck.failed[-1]:
                 break                   # a simulation: one case says it, the rest would repeat
@@ -105,18 +129,29 @@ def damped_dt_max(ck: Checker, func) -> None:
         if one_number(ck, what, got, "a step in s") is None:
             continue
         ck.close(got, measured, what, rtol=precision_rtol(got, 1e-9), mistakes={
-                     "that is the undamped limit 2/ω: damping moves it (ω² dt² + 2 (c/m) dt < 4)":
-                         2.0 / omega,
-                     "you forgot to divide c by m: the condition uses γ = c/m":
+                     escalate("that is the undamped limit 2/ω: the damping moves it",
+                              "solve the damped condition of section 5 for dt"): 2.0 / omega,
+                     escalate("the condition uses the damping rate γ = c/m, in 1/s: check "
+                              "what you used for γ", "divide c by m"):
                          4.0 / (c + np.sqrt(c**2 + 4 * omega**2)),
-                     "wrong root: of the two roots of ω² dt² + 2γ dt - 4 = 0 take the positive one":
+                     escalate("wrong root: the quadratic in dt has a negative and a positive "
+                              "root, and the step is the positive one",
+                              "the positive root has + before the square root, -γ + √(...)"):
                          (gamma + np.sqrt(gamma**2 + 4 * omega**2)) / omega**2,
-                     "the discriminant of ω² dt² + 2γ dt - 4 is 4γ² + 16ω²: its square root "
-                     "is 2√(γ² + 4ω²)": (-gamma + np.sqrt(gamma**2 + 16 * omega**2)) / omega**2,
-                     "only the damping part: 2/γ is the limit for damping alone":
+                     escalate("check the discriminant of your quadratic in dt",
+                              "for a dt² + b dt + c = 0 it is b² - 4ac, here with b = 2γ"):
+                         (-gamma + np.sqrt(gamma**2 + 16 * omega**2)) / omega**2,
+                     escalate("a factor 2 went missing: the damping enters the condition as "
+                              "2 γ dt, not γ dt", "redo the algebra of tr S > -(1 + det S) "
+                              "with tr S = 2 - ω² dt² - γ dt and det S = 1 - γ dt"):
+                         (-gamma + np.sqrt(gamma**2 + 16 * omega**2)) / (2 * omega**2),
+                     escalate("only the damping part: 2/γ is the limit of the damping "
+                              "alone, and the spring lowers it further",
+                              "keep both terms of the condition"):
                          2.0 / gamma if gamma else np.inf,
-                     "(2/ω)(1 - ζ) is the small-damping approximation, wrong at ζ = 1 and "
-                     "beyond: solve the quadratic exactly": 2.0 / omega * (1.0 - zeta),
+                     escalate("(2/ω)(1 - ζ) is the small-damping approximation, wrong at "
+                              "ζ = 1 and beyond", "solve the quadratic exactly"):
+                         2.0 / omega * (1.0 - zeta),
                  })
 
 
@@ -173,16 +208,22 @@ def network_forces(ck: Checker, func) -> None:
         if _Indices.looped:
             ck.expect(False, what, "your function loops over the springs one at a time",
                       hint=escalate("work on all springs at once: index the positions with the arrays "
-                            "i and j", "d = x[i] - x[j] gives every spring's vector; np.add.at "
-                            "(or np.bincount) adds the forces onto particles"))
+                            "i and j", "d = x[i] - x[j] gives every spring's vector at once; the "
+                            "forces then go onto the particles in one whole-array call"))
             continue
         if blown_up(ck, got, what, run=False):
             continue
         ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12, mistakes={
-            "F[i] += f skips repeated indices (numpy buffers the fancy-index add): a particle "
-            "with several springs gets only one of them. Use np.add.at(F, i, f)": buffered,
-            "each spring pushes both ends: add f at i AND -f at j": only_i,
-            "damp only the stretching rate: c ((v_i - v_j)·u) u, not c (v_i - v_j)": unprojected,
-            "you left out the damping term c ((v_i - v_j)·u) u": no_damping,
-            "sign error: a stretched spring pulls i towards j": -expected,
+            escalate("a particle that belongs to several springs got the force of only one "
+                     "of them: F[i] += f does not add up repeated indices (NumPy buffers a "
+                     "fancy-index update, so the last write wins)",
+                     "NumPy has an unbuffered version of the add for this (np.add.at), and "
+                     "np.bincount can sum per particle too"): buffered,
+            escalate("each spring pushes both of its ends", "add f at i and -f at j"): only_i,
+            escalate("the damping must act along the spring only, on the stretching rate",
+                     "project the relative velocity on u first: ((v_i - v_j)·u) u"): unprojected,
+            escalate("you left out the damping", "add c times the stretching rate, along u"):
+                no_damping,
+            escalate("sign error: a stretched spring pulls i towards j",
+                     "d = x_i - x_j points from j to i"): -expected,
         })

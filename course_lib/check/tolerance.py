@@ -6,7 +6,10 @@
 - :func:`blown_up`: report "your run blew up" (with the step) instead of printing a row
   of ``nan`` as the answer;
 - :func:`escalate`: a hint that names the mistake first and adds the fix after another
-  wrong attempt (:meth:`~course_lib.check.Checker.pick`).
+  wrong attempt (:meth:`~course_lib.check.Checker.pick`);
+- :func:`consistent_hint`: the one mistake that explains every case an answer gets wrong,
+  so that two mistakes that coincide on one case (a sign error and a force on the length,
+  on a spring compressed to half its rest length) are told apart by the other cases.
 
 Check layer: imports NumPy and the shared :class:`~course_lib.check.Checker` only.
 """
@@ -15,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import Checker
+from . import Checker, Hint
 
 
 def precision_rtol(answer, rtol: float) -> float:
@@ -71,3 +74,37 @@ def escalate(nudge: str, more: str) -> tuple[str, str]:
     """
     return nudge, f"{nudge} — {more}"
 
+
+
+def consistent_hint(results, rtol: float = 1e-9, atol: float = 1e-12) -> Hint:
+    """The hint of the first usual mistake that explains the whole answer, or None.
+
+    ``results`` holds ``(got, expected, mistakes)`` per case, ``mistakes`` mapping a hint to
+    the value that mistake gives on that case (the same hints, in the same order, for every
+    case). A mistake explains the answer when, on every case, the answer equals the right
+    value or that mistake's value, and equals the mistake's (not the right one) at least
+    once. Per-case matching alone would blame a sign error for an answer that only went
+    wrong on a compressed spring.
+    """
+    def same(a, b) -> bool:
+        try:
+            a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        except (TypeError, ValueError):
+            return False
+        return a.shape == b.shape and bool(np.allclose(a, b, rtol=precision_rtol(a, rtol),
+                                                        atol=atol))
+
+    if not results:
+        return None
+    for hint in results[0][2]:
+        explained, shown = True, False
+        for got, expected, mistakes in results:
+            if same(got, expected):
+                continue
+            if not same(got, mistakes[hint]):
+                explained = False
+                break
+            shown = True
+        if explained and shown:
+            return hint
+    return None

@@ -73,7 +73,7 @@ class SpringPlot:
         else:
             idx = np.arange(n)
         color = METHOD_COLORS[method]
-        thinned = f" (every {stride}th step drawn)" if stride > 1 else ""
+        thinned = f" (every {ordinal(stride)} step drawn)" if stride > 1 else ""
         a = abs(float(run.exact[0])) or 1.0
 
         self.exact_x.set_data(run.t_fine, run.exact_fine)
@@ -128,9 +128,16 @@ class SpringPlot:
 
         self.title.set_text(f"{label}, k = {p['k']:.3g} N/m, c = {p['c']:.3g} N s/m, "
                             f"m = {p['m']:.3g} kg, dt = {p['dt']:.3g} s: {run.message}")
-        self.subtitle.set_text(f"with this damping, {label} is {run.limit_text}"
+        self.subtitle.set_text(f"{label} with this damping: {run.limit_text}"
                                f"   ({n - 1} steps)")
         return self.fig
+
+
+def ordinal(n: int) -> str:
+    """``1st``, ``2nd``, ``3rd``, ``4th``, ..., ``11th``, ``12th``, ``13th``, ``21st``, ..."""
+    if 10 <= n % 100 <= 20:
+        return f"{n}th"
+    return f"{n}{ {1: 'st', 2: 'nd', 3: 'rd'}.get(n % 10, 'th')}"
 
 
 def draw_spring_run(run: SpringRun, fig=None):
