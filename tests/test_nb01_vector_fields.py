@@ -10,6 +10,7 @@ import pytest
 import course_lib as cl
 from course_lib import check
 from course_lib.check import nb01
+from course_lib.check._nb01_cases import cohesion_cases
 from course_lib.fields import compose, constant_wind, grid, radial, sample, scaled, vortex
 
 WIND = constant_wind((7.0, 2.0))
@@ -456,17 +457,24 @@ def ensembles():
 def test_flock_ensemble_quoted(ensembles):
     """Chaotic runs are quoted as an ordering and as means with their standard error: each
     quoted mean must lie within 3 standard errors of the measured one (a 0.3 % chance of a
-    false alarm), and the ordering must hold on every start."""
+    false alarm), and the ordering must hold on every start. The printed two-digit values
+    (mean, standard error, range) must be what any machine prints. Between OpenBLAS's
+    AVX-512 and Haswell kernels the mean moved by 5.7e-4 (0.9092 and 0.9098; it sits 4e-3
+    from its rounding edge) and the standard error by 2e-4 (0.0341 and 0.0340, 8.6e-4 from
+    its edge); without alignment nothing moved. So each printed value must lie at least
+    7e-4 from a rounding edge."""
     (curves, late), (curves_off, late_off) = ensembles
     assert curves.shape == (16, 601) and curves_off.shape == (16, 601)
     assert int(np.sum(late > late_off)) == 16                       # "16 times out of 16"
-    for values, quoted, quoted_se in ((late, 0.93, 0.03), (late_off, 0.14, 0.02)):
+    for values, quoted, quoted_se, lo, hi in ((late, 0.91, 0.03, "0.57", "0.99"),
+                                              (late_off, 0.14, 0.02, "0.06", "0.27")):
         se = values.std(ddof=1) / math.sqrt(len(values))
         assert abs(values.mean() - quoted) <= 3 * se, (values.mean(), se)
-        assert se == pytest.approx(quoted_se, abs=0.01)            # the "± 0.03", "± 0.02"
-    assert 0.5 < late.min() < 0.7 and late.max() <= 1.0             # "from about 0.6 to 1"
-    # "most flocks end almost perfectly aligned": more than half above 0.95 at 30 s
-    assert np.sum(curves[:, -1] > 0.95) > 8
+        printed = (values.mean(), se, values.min(), values.max())
+        assert [f"{v:.2f}" for v in printed] == [f"{quoted:.2f}", f"{quoted_se:.2f}", lo, hi]
+        for v in printed:
+            assert abs(100 * v - math.floor(100 * v) - 0.5) > 0.07, v   # ≥ 7e-4 from an edge
+    assert np.sum(curves[:, -1] > 0.95) > 8       # "most flocks end almost perfectly aligned"
 
 
 @pytest.mark.roundoff
@@ -478,12 +486,12 @@ def test_flock_ordering_survives_a_last_digit_nudge():
 
     def late(seed, weights):
         flock = lesson.run_flock(weights=weights, seed=seed, nudge=1e-13)
-        return flock.polarisation[400:].mean()
+        return flock.polarisation[300:].mean()
 
     on = np.array([late(s, lesson.WEIGHTS) for s in range(16)])
     off = np.array([late(s, (1.0, 0.0, 0.6)) for s in range(16)])
     assert int(np.sum(on > off)) == 16
-    assert abs(on.mean() - 0.93) <= 3 * on.std(ddof=1) / 4
+    assert abs(on.mean() - 0.91) <= 3 * on.std(ddof=1) / 4
     assert abs(off.mean() - 0.14) <= 3 * off.std(ddof=1) / 4
 
 
@@ -555,10 +563,11 @@ def test_flock_rules_against_a_loop():
 # cohesion
 
 
-def _cohesion_ok(X, radius):
+def _cohesion_ok(X, radius, strict=True):
     X = np.asarray(X, dtype=float)
     D = X[None, :, :] - X[:, None, :]
-    near = np.sum(D**2, axis=-1) < radius**2
+    dist2 = np.sum(D**2, axis=-1)
+    near = dist2 < radius**2 if strict else dist2 <= radius**2
     np.fill_diagonal(near, False)
     count = near.sum(axis=1, keepdims=True)
     return (near[:, :, None] * D).sum(axis=1) / np.maximum(count, 1)
@@ -574,7 +583,7 @@ def _cohesion_loop(X, radius):
 
 
 def test_cohesion_reference_against_a_loop_and_by_hand():
-    for _, X, radius in nb01._cohesion_cases():
+    for _, X, radius in cohesion_cases():
         np.testing.assert_allclose(nb01.cohesion_reference(X, radius), _cohesion_loop(X, radius),
                                    rtol=1e-12, atol=1e-14)
     X = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [5.0, 5.0], [5.5, 5.0]])
@@ -583,7 +592,7 @@ def test_cohesion_reference_against_a_loop_and_by_hand():
 
 
 def test_cohesion_accepts_right_answers(capsys):
-    for answer in (_cohesion_ok, _cohesion_loop,
+    for answer in (_cohesion_ok,
                    lambda X, r: _cohesion_ok(X, r).astype(np.float32),
                    lambda X, r: _cohesion_ok(np.asarray(X, np.float32), np.float32(r)),
                    lambda X, r: _cohesion_ok(X, r).tolist()):
@@ -616,19 +625,40 @@ def _cohesion_in_place(X, radius):
     [
         (_cohesion_self, "a boid is not its own neighbour"),
         (_cohesion_nan, "return 0 for it"),
-        (lambda X, r: -_cohesion_ok(X, r), "points away from the neighbours"),
+        (lambda X, r: -_cohesion_ok(X, r), "your pull points away from the neighbours"),
+        (lambda X, r: _cohesion_ok(X, r, strict=False), "a boid exactly `radius` away"),
         (lambda X, r: _cohesion_ok(X, r) + np.where(
             np.abs(_cohesion_ok(X, r)).sum(1, keepdims=True) > 0, X, 0.0), "not the centre itself"),
         (_cohesion_in_place, "do not assign into X"),
         (lambda X, r: _cohesion_ok(X, r)[:, 0], "expected shape"),
     ],
-    ids=["self", "nan", "sign", "centre", "in-place", "shape"],
+    ids=["self", "nan", "sign", "at-radius", "centre", "in-place", "shape"],
 )
 def test_cohesion_mistakes(answer, hint, capsys):
     status, out = _run(nb01.cohesion, answer, capsys)
     assert status == "incorrect"
     assert hint in out
     assert len(out) < 4000  # a wrong 200-boid answer is summarised, not printed whole
+
+
+def test_cohesion_refuses_a_loop_over_the_boids(capsys):
+    """"Write it without a Python loop over the boids": a loop is right on every flock, and is
+    stopped by the line budget on the 200-boid one, with the exercise's own advice."""
+    result = check.evaluate(nb01.cohesion, _cohesion_loop)
+    text = "\n".join(result["failed_cases"])
+    assert result["status"] == "incorrect" and result["passed"] >= 4
+    assert "200 boids" in text and "more than 100 lines of Python" in text
+    assert "without a Python loop over the boids" in text and nb01.COHESION_LINE_BUDGET == 100
+    # broadcasting runs a handful of lines on every flock, far below the budget
+    assert check.evaluate(nb01.cohesion, _cohesion_ok)["status"] == "correct"
+
+
+def test_cohesion_case_at_exactly_the_radius():
+    X = np.array([[0.0, 0.0], [1.5, 0.0], [0.0, 1.0], [3.0, 3.0]])
+    assert np.sum((X[1] - X[0]) ** 2) == 1.5**2                  # exactly, in floating point
+    np.testing.assert_array_equal(nb01.cohesion_reference(X, 1.5),
+                                  [[0.0, 1.0], [0.0, 0.0], [0.0, -1.0], [0.0, 0.0]])
+    assert not np.allclose(_cohesion_ok(X, 1.5, strict=False), nb01.cohesion_reference(X, 1.5))
 
 
 # the reference is computed before the student's function runs
@@ -689,6 +719,9 @@ PLANTED = [
     ("vortex_field", "shortcut: one particle only",
      "def vortex_field(t, X):\n    return np.array([-X[1], X[0]])",
      "incorrect", "X[0] and X[1] are the first two ROWS (particles)"),
+    ("vortex_field", "shortcut: columns by X[:, 0] (one position of shape (2,) breaks it)",
+     "def vortex_field(t, X):\n    return np.stack((-X[:, 1], X[:, 0]), axis=-1)",
+     "incorrect", "X may be one position of shape (2,), with a single axis"),
     ("vortex_field", "misconception: clockwise",
      "def vortex_field(t, X):\n    return np.stack((X[..., 1], -X[..., 0]), axis=-1)",
      "incorrect", "that is the clockwise vortex"),
@@ -745,6 +778,17 @@ PLANTED = [
     ("cohesion", "shortcut: the centre of the whole flock",
      "def cohesion(X, radius):\n    return X.mean(axis=0) - X",
      "incorrect", "not of the whole flock"),
+    ("cohesion", "shortcut: a loop over the boids (the line budget stops it on 200 boids)",
+     "def cohesion(X, radius):\n    out = np.zeros_like(X)\n    for i in range(len(X)):\n"
+     "        d = X - X[i]\n        near = np.sum(d**2, axis=1) < radius**2\n"
+     "        near[i] = False\n        if near.any():\n            out[i] = d[near].mean(axis=0)\n"
+     "    return out",
+     "incorrect", "more than 100 lines of Python here"),
+    ("cohesion", "misconception: neighbours up to and including the radius",
+     "def cohesion(X, radius):\n    D = X[None] - X[:, None]\n"
+     "    near = np.sum(D**2, axis=-1) <= radius**2\n    np.fill_diagonal(near, False)\n"
+     "    return (near[..., None] * D).sum(1) / np.maximum(near.sum(1, keepdims=True), 1)",
+     "incorrect", "a boid exactly `radius` away is not a neighbour"),
     ("cohesion", "misconception: a boid is its own neighbour",
      "def cohesion(X, radius):\n    D = X[None] - X[:, None]\n"
      "    near = np.sum(D**2, axis=-1) < radius**2\n"
@@ -778,3 +822,22 @@ def test_hints_escalate_from_a_nudge():
     check.FAILURES["nb01.advect_step"] = 1
     second = "\n".join(check.evaluate(nb01.advect_step, wrong)["failed_cases"])
     assert "the new position is X + dt * V" in second
+
+
+def test_wind_speed_is_one_number_everywhere():
+    """The wind panel prints "|V| = 7.28 m/s everywhere" instead of a colour scale."""
+    Xg, Yg = grid(extent=2.0, n=11)
+    U, W = sample(WIND, Xg, Yg)
+    speed = np.hypot(U, W)
+    assert np.ptp(speed) == 0.0 and f"{speed.max():.2f}" == "7.28"
+    assert speed.max() == pytest.approx(math.sqrt(53), rel=1e-15)
+
+
+def test_exercise_5_model_answer():
+    """"√1.25 ≈ 1.118034"; over t = n dt the growth (1 + dt²)^(t/(2dt)) ≈ e^(t dt/2) → 1."""
+    assert f"{math.sqrt(1.25):.6f}" == "1.118034"
+    t = 6.0
+    for dt in (0.1, 0.01, 0.001):
+        exact = (1 + dt * dt) ** (t / (2 * dt))
+        assert exact == pytest.approx(math.exp(t * dt / 2), rel=dt**2 * t)
+    assert (1 + 1e-8) ** (t / 2e-4) - 1 < 1e-3

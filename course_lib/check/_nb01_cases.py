@@ -1,8 +1,11 @@
-"""Case data of notebook 01's particle-frame check (:func:`course_lib.check.nb01.particle_frame`).
+"""Case data of notebook 01's particle-frame and cohesion checks (:mod:`course_lib.check.nb01`).
 
 :func:`particle_cases` holds the frames the check runs (one made by hand, one whose expired
 particles are not the first rows, so that deleting from the front of a queue fails), and
 :func:`frame_mistakes` what the usual mistakes make of one frame, each keyed by its hint.
+:func:`cohesion_cases` holds the flocks of the cohesion check (one with a pair exactly
+``radius`` apart, so that ``<=`` fails) and :func:`cohesion_within` the rule for a given
+neighbour mask (to recognise a mask built with ``<=``).
 Imports NumPy only.
 """
 
@@ -67,3 +70,30 @@ def frame_mistakes(particles, V, dt, newborn) -> dict:
         ("the expired particles are not always the first rows (lifetimes differ): select the "
          "survivors with a boolean mask, age < lifetime, row by row"): variant(aged, front),
     }
+
+
+#: Lines of Python an answer may run per flock: broadcasting needs a handful, a loop over
+#: 200 boids at least 200.
+COHESION_LINE_BUDGET = 100
+
+
+def cohesion_cases() -> list:
+    """The flocks of the cohesion check: by hand (one with a pair exactly ``radius`` apart),
+    two boids out of sight of each other, and two random flocks."""
+    rng = np.random.default_rng(_RNG_SEED)
+    by_hand = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [5.0, 5.0], [5.5, 5.0]])
+    at_radius = np.array([[0.0, 0.0], [1.5, 0.0], [0.0, 1.0], [3.0, 3.0]])
+    return [
+        ("5 boids by hand, radius 1.2 m", by_hand, 1.2),
+        ("4 boids by hand, radius 1.5 m: the first two exactly 1.5 m apart (not neighbours)",
+         at_radius, 1.5),
+        ("2 boids 3 m apart, radius 1 m (no neighbours)", np.array([[0.0, 0.0], [3.0, 0.0]]), 1.0),
+        ("200 boids in a 10 m square, radius 1.5 m", rng.uniform(0.0, 10.0, size=(200, 2)), 1.5),
+        ("60 boids in a 3 m square, radius 0.8 m", rng.uniform(0.0, 3.0, size=(60, 2)), 0.8),
+    ]
+
+
+def cohesion_within(X, D, within) -> np.ndarray:
+    """The rule with neighbours ``within`` (a boolean (N, N) mask; the boid itself left out)."""
+    others = within & ~np.eye(len(X), dtype=bool)
+    return np.einsum("ij,ijk->ik", others, D) / np.maximum(others.sum(axis=1, keepdims=True), 1)
