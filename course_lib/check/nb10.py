@@ -6,18 +6,21 @@ No answer may call the library (``allow=()``); the neighbour search may not call
 with the all-pairs reference :func:`course_lib.neighbors.all_pairs` on data that breaks the
 usual shortcuts (pairs in diagonal cells, at exactly the radius, coincident points, points
 far apart in one wide cell) and measures the memory an answer holds at once, which tells
-a grid from an N × N table.
+a grid from an N × N table; on four times the points at the same density it measures the
+memory allocated in all (bytes, the same on every machine), which grows fourfold for a grid
+and sixteenfold for all pairs tested a row at a time. Case data and the measurement:
+:mod:`course_lib.check._nb10_cases`.
 """
 
 from __future__ import annotations
 
 import inspect
-import tracemalloc
 
 import numpy as np
 
 from .. import boids, neighbors
 from . import Checker, exercise
+from . import _nb10_cases as _cases
 from .policy import name_chains
 
 _SEED = 1010
@@ -26,9 +29,9 @@ _SEED = 1010
 def _case(n, box, rng, isolated=False):
     rules = boids.Rules(box=box)
     x, v = boids.random_flock(n, box, 1.5, rng)
-    if isolated:                     # one boid far from everybody: no neighbour, no push
-        x[0] = x[1:].mean(axis=0) + box / 2
-        x[1:] = np.mod(x[0] + box / 2 + rng.uniform(-2.0, 2.0, (n - 1, 2)), box)
+    if isolated:                     # the last boid far from everybody: no neighbour, no push
+        x[-1] = x[:-1].mean(axis=0) + box / 2    # (last: an answer sized i.max() + 1 is short)
+        x[:-1] = np.mod(x[-1] + box / 2 + rng.uniform(-2.0, 2.0, (n - 1, 2)), box)
     i, j, d = boids.tree_pairs(x, v, rules, sort=False)
     return x, v, rules, i, j, d
 
@@ -91,24 +94,34 @@ def separation(ck: Checker, func) -> None:
                       hint="build a new array for S instead of updating i, j or d in place")
             continue
         got = np.asarray(got, dtype=float)
+        if got.ndim == 2 and got.shape[1:] == (2,) and got.shape[0] == i.max() + 1 < n:
+            ck.expect(False, what, f"expected one row per boid, shape ({n}, 2), got {got.shape}",
+                      hint=("the last boids may appear in no pair: size S by n, not by i",
+                            "np.zeros((n, 2)): a boid without neighbours still has a row (of zeros)"))
+            continue
         if got.shape == d.shape and d.shape != (n, 2):
             ck.expect(False, what, f"expected one row per boid, shape ({n}, 2), got {got.shape}",
                       hint="scatter the pair terms onto the boids: one row per boid, not per pair")
             continue
         _close_rows(ck, got, expected, what, mistakes)
         if isolated and got.shape == (n, 2):
-            ck.expect(np.array_equal(got[0], [0.0, 0.0]), "a boid without neighbours feels no push",
-                      f"got {got[0]}", hint="rows of boids that appear in no pair must stay zero")
+            ck.expect(np.array_equal(got[-1], [0.0, 0.0]), "a boid without neighbours feels no push",
+                      f"got {got[-1]}", hint="rows of boids that appear in no pair must stay zero")
 
 
 WEIGHTS = ("separation", "alignment", "cohesion")
 REASONS = {
-    "A": "only separation pushes boids apart, harder the closer they are; cohesion pulls "
-         "each boid to its neighbours' centre, and without a push back nothing keeps a spacing",
-    "B": "without it boids fly in random directions and collide by chance",
-    "C": "the speed limits stop the boids when the rule is missing, so they pile up",
-    "D": "without it boids move in parallel, and parallel boids always converge",
+    "A": "without it the headings never agree, so the boids keep crossing each other's paths "
+         "and collide",
+    "B": "alignment gives neighbours the same velocity, and boids with the same velocity end "
+         "up at the same place",
+    "C": "it is the only rule that pushes neighbours apart, and its push grows without bound as "
+         "they close in; cohesion keeps pulling each boid to its neighbours' centre, so without "
+         "it nothing stops a group contracting",
+    "D": "it pushes harder than cohesion pulls at every distance, so without it cohesion wins",
 }
+#: The right reason; the others are misconceptions that the notebook's runs refute.
+RIGHT_REASON = "c"
 
 
 @exercise(allow=())
@@ -121,10 +134,9 @@ def flock_breaker(ck: Checker, func) -> None:
         return
     weight, reason = (str(a).strip().lower() for a in answer)
     hints = {
-        "alignment": "without alignment the headings stay random (polarization near that of "
-                     "random headings), but the boids keep their distance: nothing piles up",
-        "cohesion": "without cohesion nothing pulls the boids together: their spacing grows "
-                    "beyond that of random placement, the opposite of piling up",
+        "alignment": "without alignment the headings never agree, but nothing pulls harder: "
+                     "which rule, missing, leaves the pull of the others unopposed?",
+        "cohesion": "without cohesion nothing pulls the boids together: how could they pile up?",
     }
     if not ck.expect(weight in WEIGHTS, "the weight is one of the three",
                      f"got {weight!r}", hint=f"answer one of {', '.join(WEIGHTS)}"):
@@ -132,12 +144,14 @@ def flock_breaker(ck: Checker, func) -> None:
     ck.expect(weight == "separation", "the weight whose absence piles the boids up",
               f"you chose {weight}", hint=hints.get(weight))
     why = {
-        "b": "boids piling up on a few points is not chance: the same boids stay together "
-             "in groups that fly aligned, which chance collisions would not do",
-        "c": "the speed limits only clamp |v| to [1, 2] m/s: they never stop a boid",
-        "d": "parallel boids keep their distance for ever; something must pull them together",
+        "a": "disorder does not pile boids up: with random headings (alignment 0) they keep "
+             "their distance, and without separation the flock still orders",
+        "b": "two boids with the same velocity keep the offset between them: parallel flight "
+             "never closes a gap",
+        "d": "if separation won at every distance, no group would ever form: the push, of size "
+             "w_s/|d| per neighbour, and the pull, which grows with |d|, balance at a spacing",
     }
-    ck.expect(reason == "a", "the reason", f"you chose {reason.upper()!r}",
+    ck.expect(reason == RIGHT_REASON, "the reason", f"you chose {reason.upper()!r}",
               hint=why.get(reason, "answer one of the letters A, B, C, D"))
 
 
@@ -146,23 +160,10 @@ def flock_breaker(ck: Checker, func) -> None:
 #: Memory (bytes) an answer may hold at once for the 2000-point case: a grid needs well
 #: under a megabyte; one N × N table of float64 needs 32 MB.
 MEMORY_LIMIT = 12_000_000
-
-
-def _grid_cases():
-    """Point sets that break the usual shortcuts of a grid search (radius in m)."""
-    rng = np.random.default_rng(_SEED + 3)
-    yield "3-4-5: a pair at exactly the radius (5 m) in diagonal cells, one just beyond", \
-        np.array([[0.0, 0.0], [3.0, 4.0], [3.0, np.nextafter(4.0, 5.0) + 1e-9], [-3.0, -4.0]]), 5.0
-    yield "a row of points exactly one radius apart", np.column_stack((0.5 * np.arange(12.0),
-                                                                        np.zeros(12))), 0.5
-    yield "coincident points and negative coordinates", np.array(
-        [[-1.2, -0.3], [-1.2, -0.3], [-0.3, -1.1], [0.4, 0.2], [-2.9, -2.9], [-2.2, -2.1]]), 1.0
-    yield "one point", np.array([[1.0, 2.0]]), 1.0
-    yield "no pair at all", np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]]), 1.0
-    yield "300 points in two tight clusters and a sparse cloud", np.concatenate((
-        rng.normal(0.0, 0.3, (120, 2)), rng.normal(5.0, 0.2, (80, 2)),
-        rng.uniform(-10.0, 15.0, (100, 2)))), 0.7
-    yield "2000 points in a 50 m square, radius 1 m", rng.uniform(0.0, 50.0, (2000, 2)), 1.0
+#: For four times the points at the same density a grid allocates about four times the
+#: memory in total (a neighbourhood of the same size per point); all pairs, even a row at
+#: a time, sixteen times. Between the two:
+GROWTH_LIMIT = 8.0
 
 
 def _pair_set(i, j):
@@ -181,6 +182,16 @@ def _imports_inside(func, prefix: str) -> list[str]:
                    if kind == "path" and (head == prefix or head.startswith(prefix + "."))})
 
 
+def _missing_hint(later) -> tuple[str, ...]:
+    """The hint for missing pairs, from the evidence of every case: only when every missing
+    pair lies at exactly the radius is the comparison to blame; else the stencil is."""
+    if all(at_radius for _, _, at_radius in later):
+        return ("a pair exactly `radius` apart counts: |d| <= radius", "compare |d|² <= radius², not <")
+    return ("pairs in neighbouring cells are missing",
+            "with cells of side radius, a point's neighbours can lie in any of the 3 × 3 cells "
+            "around its own (all nine, not half of them); cells smaller than the radius need more")
+
+
 @exercise(allow=(), forbid=("scipy.spatial",))
 def neighbour_pairs(ck: Checker, func) -> None:
     """``func(x, radius) -> (i, j)``: every pair ``i < j`` with ``|x_i − x_j| <= radius``,
@@ -190,16 +201,20 @@ def neighbour_pairs(ck: Checker, func) -> None:
                   "this exercise asks for a grid of your own; scipy.spatial's trees are refused",
                   hint=("bin the points into cells of side radius with np.floor(x / radius)",))
         return
-    later, across_cells = [], False        # missing pairs are judged once every case is in
-    for what, x, radius in _grid_cases():
-        ref = neighbors.all_pairs(x, radius)
+    later, allocated = [], {}              # missing pairs are judged once every case is in
+    for what, x, radius in _cases.grid_cases(_SEED + 3):
+        if len(x) > 2000 and not allocated:
+            break                          # the cost is measured only on a search that works
+        ref = neighbors.pairs(x, radius) if len(x) > 2000 else neighbors.all_pairs(x, radius)
         expected = _pair_set(ref.i, ref.j)
-        tracemalloc.start()
         try:
-            got = func(x.copy(), radius)
-            peak = tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
+            got, peak, total = _cases.measured(func, x.copy(), radius)
+        except _cases.TooLong:
+            limit = _cases.line_limit(len(x))
+            ck.expect(False, what, f"your function ran more than {limit:,} lines of Python on "
+                      f"{len(x)} points", hint=("testing every pair in Python takes N²/2 steps: bin "
+                                                "the points into cells instead",))
+            continue
         try:
             i, j = (np.asarray(a).astype(int).ravel() for a in got)
         except (TypeError, ValueError):
@@ -211,8 +226,6 @@ def neighbour_pairs(ck: Checker, func) -> None:
             continue
         pairs = list(zip(i.tolist(), j.tolist(), strict=True))
         found = set(pairs)
-        cell = np.floor(x / radius)
-        across_cells |= any(np.any(cell[a] != cell[b]) for a, b in found & expected)
         wrong = []
         if any(a == b for a, b in pairs):
             wrong.append(("a point is paired with itself",
@@ -237,20 +250,27 @@ def neighbour_pairs(ck: Checker, func) -> None:
             at_radius = all(np.isclose(ref.distance[np.flatnonzero((ref.i == a) & (ref.j == b))[0]],
                                        radius, rtol=1e-12) for a, b in missing)
             later.append((what, detail, at_radius))
-        elif x.shape[0] >= 2000 and peak > MEMORY_LIMIT:
+        elif len(x) == 2000 and peak > MEMORY_LIMIT:
             ck.expect(False, f"{what}: memory held at once",
                       f"your function held {peak / 1e6:.0f} MB at once for {len(x)} points",
                       hint=("that is an N × N table: bin the points into cells instead",
                             "an N × N table of distances grows as N²: bin the points into "
                             "cells of side radius and compare each point only with the "
                             "points of its own and the neighbouring cells"))
+        elif len(x) > 2000:
+            growth = total / max(allocated[2000], 1)
+            ck.expect(growth <= GROWTH_LIMIT, f"{what}: the cost grows as N, not N²",
+                      f"your function allocated {allocated[2000] / 1e6:.1f} MB in all for 2000 points "
+                      f"and {total / 1e6:.1f} MB for {len(x)} at the same density: {growth:.0f} times "
+                      "as much for 4 times the points (a grid: about 4; all pairs, even a row at a "
+                      "time: 16)",
+                      hint=("that is all pairs, a row at a time: bin the points into cells",
+                            "with cells of side radius a point has about 9ρR² candidates whatever N "
+                            "(ρ the density): compare each point only with the points of its own and "
+                            "the 8 neighbouring cells"))
         else:
             ck.expect(True, what)
-    for what, detail, at_radius in later:
-        if at_radius and across_cells:     # the grid works: only pairs at exactly R are lost
-            hint = ("a pair exactly `radius` apart counts: |d| <= radius", "compare |d|² <= radius², not <")
-        else:
-            hint = ("pairs in neighbouring cells are missing",
-                    "with cells of side radius, a point's neighbours can lie in any of the 3 × 3 "
-                    "cells around its own; cells smaller than the radius need more than that")
-        ck.expect(False, what, detail, hint=hint)
+            if len(x) == 2000:
+                allocated[2000] = total
+    for what, detail, _ in later:
+        ck.expect(False, what, detail, hint=_missing_hint(later))

@@ -54,17 +54,19 @@ def draw_crossover(sizes, timings: dict):
     return fig
 
 
-def draw_ensemble(ens, example):
+def draw_ensemble(ens, box: float, seed: int = 0):
     """One run's final flock, and the polarization and spacing over time across seeds."""
     fig, (ax0, ax1, ax2) = plt.subplots(1, 3, figsize=(12, 3.7), constrained_layout=True,
                                         width_ratios=(0.9, 1, 1))
-    _boids(ax0, example.x, example.v, example.rules.box,
-           f"seed 0: {len(example.x)} boids after {example.t[-1]:.0f} s")
+    x, v = ens.finals[seed]
+    _boids(ax0, x, v, box, f"seed {seed}: {len(x)} boids after {ens.t[-1]:.0f} s")
     ax0.set_ylabel("y (m)")
     _band(ax1, ens.t, ens.polarization, "C0", "flock")
-    ax1.axhline(ens.random_polarization, **EXACT_STYLE, label=r"random: $\sqrt{\pi}/(2\sqrt{N})$")
+    ax1.axhline(ens.random_polarization, **EXACT_STYLE)
+    ax1.text(ens.t[-1], ens.random_polarization + 0.015, r"random headings: $\sqrt{\pi}/(2\sqrt{N})$",
+             ha="right", va="bottom", fontsize=8)
     ax1.set(xlabel="t (s)", ylabel="polarization", ylim=(0, 1.02), title="common heading")
-    ax1.legend(loc="lower right", fontsize=8, framealpha=0.9)
+    ax1.legend(loc="center right", bbox_to_anchor=(1.0, 0.45), fontsize=8, framealpha=1.0)
     _band(ax2, ens.t_nn, ens.nn, "C2", "flock")
     ax2.axhline(ens.random_nn, **EXACT_STYLE, label="random positions (exact)")
     ax2.set(xlabel="t (s)", ylabel="mean distance (m)", ylim=(0, 1.3),
@@ -99,17 +101,27 @@ def draw_divergence(runs: dict, rates: dict):
     return fig
 
 
+def ens_end(results: dict) -> float:
+    """Length (s) of the runs of a sweep."""
+    return float(next(iter(results.values())).t[-1])
+
+
 def draw_sweep(results: dict, dt: float):
     """Final polarization of each seed against the alignment weight, and the time each seed
     first passes 0.5."""
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 3.6), constrained_layout=True)
     weights = np.array(list(results))
+    never_y, never_label = 1.06 * ens_end(results), f"never, in the {ens_end(results):.0f} s run"
     for k, (w, ens) in enumerate(results.items()):
         jitter = np.linspace(-0.12, 0.12, len(ens.final))
         ax1.plot(w + jitter, ens.final, "o", ms=4, color="C0", label="one seed" if k == 0 else None)
         finite = np.isfinite(ens.t_order)
         ax2.plot(w + jitter[finite], ens.t_order[finite], "o", ms=4, color="C1",
                  label="one seed" if k == 0 else None)
+        if not finite.all():
+            ax2.plot(w + jitter[~finite], np.full((~finite).sum(), never_y), "^", ms=5, mfc="none",
+                     color="C1", label=never_label)
+            never_label = None
     ax1.axhline(results[weights[0]].random_polarization, **EXACT_STYLE, label="random headings")
     for ax in (ax1, ax2):
         ax.axvspan(1.0 / dt, 2.0 / dt, color="0.9", zorder=0)
@@ -117,9 +129,10 @@ def draw_sweep(results: dict, dt: float):
         sec = ax.secondary_xaxis("top", functions=(lambda w: w * dt, lambda s: s / dt))
         sec.set_xlabel(r"$w_a\,\Delta t$")
     ax1.set(ylabel="polarization after 15 s", ylim=(0, 1.02))
-    ax2.set(ylabel="first time above 0.5 (s)", ylim=(0, 15))
+    ax2.axhline(ens_end(results), color="0.6", lw=1, ls=":")
+    ax2.set(ylabel="first time above 0.5 (s)", ylim=(0, 1.12 * ens_end(results)))
     ax1.legend(fontsize=8, loc="center left")
-    ax2.legend(fontsize=8)
+    ax2.legend(fontsize=8, loc="center right")
     ax1.set_title("grey: 1 < $w_a\\Delta t$ < 2, between the two limits", fontsize=9)
     return fig
 

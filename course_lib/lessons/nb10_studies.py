@@ -4,7 +4,7 @@ A flock is chaotic: two runs that start one unit in the last place apart end as 
 flocks. So the notebook quotes what holds over an ensemble of seeds (how many of 8 runs
 order, orderings between settings), never one run's digits. Holds :func:`ensemble`
 (order parameters of :func:`~course_lib.lessons.nb10_flocking.run_flock` over seeds),
-:func:`divergence` (the same flock under a second, equally valid rounding),
+:func:`twins` (the same flock under second, equally valid roundings),
 :func:`relaxation` (alignment alone against its exact geometric decay, with a round-off
 bound), :func:`chase` (a predator, with and without the flee rule) and :func:`pillars`
 (steering to avoid obstacles). Built on :mod:`course_lib.boids`; the drawings are in
@@ -40,6 +40,7 @@ class Ensemble:
     random_polarization: float
     random_nn: float
     snapshots: list | None = None   # per seed, (x, v) after ``snapshot_at`` steps
+    finals: list | None = None      # per seed, (x, v) at the end of the run
 
     def until(self, seconds: float) -> Ensemble:
         """The same runs cut after ``seconds`` (the first steps of longer runs are the
@@ -76,7 +77,7 @@ def ensemble(seeds=SEEDS, **kw) -> Ensemble:
     t_order = np.where(above.any(axis=1), t[np.argmax(above, axis=1)], np.inf)
     return Ensemble(t, pol, runs[0].t_nn, np.array([r.nn for r in runs]),
                     np.array([r.turn for r in runs]), t_order, runs[0].random_polarization,
-                    runs[0].random_nn, [r.snapshot for r in runs])
+                    runs[0].random_nn, [r.snapshot for r in runs], [(r.x, r.v) for r in runs])
 
 
 def rms_distance(xa, xb, box: float) -> float:
@@ -84,32 +85,46 @@ def rms_distance(xa, xb, box: float) -> float:
     return float(np.sqrt(np.mean(squared_norms(boids.wrap(xb - xa, box)))))
 
 
-def divergence(seed: int = 0, steps: int = 650, how: str = "ulp", n: int = N_BOIDS,
-               box: float = BOX, dt: float = DT):
-    """The same flock run twice: as in the notebook, and under a second rounding, equally
-    valid: ``how="ulp"`` moves one coordinate of one boid by one unit in the last place
-    (``np.nextafter``); ``how="order"`` numbers the boids in reverse, so that every boid's
-    neighbour terms are summed in another order (the same rules, the same start). Returns
-    the times (s), the RMS distance between the two flocks after each step (m) and the
-    polarization of each run after each step, shape ``(2, steps)``."""
-    if how not in ("ulp", "order"):
-        raise ValueError(f"how must be 'ulp' or 'order', got {how!r}")
+def twins(seed: int = 0, steps: int = 650, hows=("ulp", "order"), n: int = N_BOIDS,
+          box: float = BOX, dt: float = DT) -> dict:
+    """The same flock run as in the notebook and, beside it, under second roundings,
+    equally valid: ``"ulp"`` moves one coordinate of one boid by one unit in the last place
+    (``np.nextafter``); ``"order"`` numbers the boids in reverse, so that every boid's
+    neighbour terms are summed in another order (the same rules, the same start). Returns,
+    per twin, the times (s), the RMS distance between the two flocks after each step (m)
+    and the polarization of each run after each step, shape ``(2, steps)``; the flock
+    itself is run once for all twins."""
+    for how in hows:
+        if how not in ("ulp", "order"):
+            raise ValueError(f"how must be 'ulp' or 'order', got {how!r}")
     rules = Rules(box=box)
     x, v = boids.random_flock(n, box, 1.0, np.random.default_rng(seed))
+    states, backs = {}, {}
+    for how in hows:
+        if how == "ulp":
+            xb, vb, backs[how] = x.copy(), v.copy(), slice(None)
+            xb[0, 0] = np.nextafter(xb[0, 0], np.inf)
+        else:
+            backs[how] = slice(None, None, -1)       # boid k of the twin is boid n - 1 - k
+            xb, vb = x[backs[how]].copy(), v[backs[how]].copy()
+        states[how] = (xb, vb)
     xa, va = x, v
-    if how == "ulp":
-        xb, vb, back = x.copy(), v.copy(), slice(None)
-        xb[0, 0] = np.nextafter(xb[0, 0], np.inf)
-    else:
-        back = slice(None, None, -1)                 # boid k of run b is boid n - 1 - k of a
-        xb, vb = x[back].copy(), v[back].copy()
-    distance, pol = np.empty(steps), np.empty((2, steps))
+    distance = {how: np.empty(steps) for how in hows}
+    pol = {how: np.empty((2, steps)) for how in hows}
     for k in range(steps):
         xa, va = boids.step(xa, va, dt, rules)
-        xb, vb = boids.step(xb, vb, dt, rules)
-        distance[k] = rms_distance(xa, xb[back], box)
-        pol[:, k] = boids.polarization(va), boids.polarization(vb)
-    return dt * np.arange(1, steps + 1), distance, pol
+        own = boids.polarization(va)
+        for how in hows:
+            xb, vb = states[how] = boids.step(*states[how], dt, rules)
+            distance[how][k] = rms_distance(xa, xb[backs[how]], box)
+            pol[how][:, k] = own, boids.polarization(vb)
+    t = dt * np.arange(1, steps + 1)
+    return {how: (t, distance[how], pol[how]) for how in hows}
+
+
+def divergence(seed: int = 0, steps: int = 650, how: str = "ulp", **kw):
+    """One twin of :func:`twins`: ``(t, distance, polarizations)``."""
+    return twins(seed, steps, (how,), **kw)[how]
 
 
 def growth_rate(t, distance, lo: float = 1e-13, hi: float = 1e-3) -> float:
