@@ -841,3 +841,19 @@ def test_exercise_5_model_answer():
         exact = (1 + dt * dt) ** (t / (2 * dt))
         assert exact == pytest.approx(math.exp(t * dt / 2), rel=dt**2 * t)
     assert (1 + 1e-8) ** (t / 2e-4) - 1 < 1e-3
+
+
+def test_field_fallback_hints_nudge_before_the_formula():
+    """An uncatalogued wrong field gets a way to check itself first, the formula only after a
+    second failure in the same kernel."""
+    for check_fn, wrong, nudge, formula in (
+            (nb01.vortex_field, lambda t, X: np.stack((-2 * X[..., 1], X[..., 0]), -1),
+             "check your formula on two points", "V = (-y, x): the x-component"),
+            (nb01.whirlpool, lambda t, X, k=0.5: np.stack((-X[..., 1] - 2 * k * X[..., 0],
+                                                          X[..., 0] - k * X[..., 1]), -1),
+             "check each part on its own", "(-y - k x, x - k y)")):
+        first = "\n".join(check.evaluate(check_fn, wrong)["failed_cases"])
+        assert nudge in first and formula not in first
+        check.FAILURES[f"nb01.{check_fn.__name__}"] = 1
+        second = "\n".join(check.evaluate(check_fn, wrong)["failed_cases"])
+        assert formula in second

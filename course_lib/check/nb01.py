@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import fields
 from ..integrators import integrate
-from . import Checker, exercise
+from . import Checker, Hint, exercise
 from ._answers import as_array, call, call_analysis, rtol_for
 from ._answers import close as _close
 from ._answers import mistake_hint as _mistake_hint
@@ -57,7 +57,7 @@ def _points() -> list[tuple[str, np.ndarray]]:
 
 
 def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=None,
-                 time_check: bool = True, formula: str | None = None) -> None:
+                 time_check: bool = True, formula: Hint = None) -> None:
     untouched = True
     for what, X in (_points() if points is None else points):
         expected, mistakes = reference(0.0, X.copy()), mistakes_of(X.copy())
@@ -109,7 +109,9 @@ def vortex_field(ck: Checker, vortex_field) -> None:
         }
 
     _field_cases(ck, vortex_field, fields.vortex, mistakes, "vortex_field(t, X)",
-                 formula="V = (-y, x): the x-component is -y and the y-component is x")
+                 formula=("check your formula on two points: the vortex moves (1, 0) straight "
+                          "up, towards (0, 1), and (0, 1) to the left",
+                          "V = (-y, x): the x-component is -y and the y-component is x"))
 
 
 def whirlpool_reference(t: float, X, k: float = 0.5) -> np.ndarray:
@@ -146,7 +148,9 @@ def whirlpool(ck: Checker, whirlpool) -> None:
 
         _field_cases(ck, answer, reference, mistakes, f"whirlpool(t, X, k={k:g})", points,
                      time_check=points is None,
-                     formula="V = (-y, x) - k (x, y), that is (-y - k x, x - k y)")
+                     formula=("the whirlpool is the vortex plus a pull towards the centre of "
+                              "strength k: check each part on its own (k = 0 is the vortex)",
+                              "V = (-y, x) - k (x, y), that is (-y - k x, x - k y)"))
 
 
 @exercise(allow=())
