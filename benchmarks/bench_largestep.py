@@ -84,7 +84,31 @@ def run(quick: bool = False) -> list[Row]:
         rows.append(Row(f"peak structural strain over {frames / 60:g} s / energy change, {side}², "
                         f"stiffness ×{factor}", None, "–", None, note="; ".join(notes)))
     rows += fidelity(small, long)
+    rows += xpbd_tradeoff(small, long)
     rows.append(frame_row(side))
+    return rows
+
+
+def xpbd_tradeoff(n: int, frames: int) -> list[Row]:
+    """XPBD at ×1000 on 32² over 1 s, for the same or half the sweeps: more small steps
+    against more sweeps per step (Macklin et al. 2019), and long range attachments (Kim,
+    Chentanez & Müller 2012) on half the small steps (informational)."""
+    from course_lib.largestep import LongRangeAttachments
+
+    c = scene(n, 1000)
+    default = cloth.XPBD_SUBSTEPS_PER_SECOND // 60
+    rows = []
+    for substeps, iterations, tethers in ((default, 1, False), (default // 2, 2, False),
+                                          (default // 2, 1, False), (default // 2, 1, True)):
+        options = {"substeps": substeps}
+        if tethers:
+            options["tethers"] = LongRangeAttachments(c.x0, c.pinned)
+        r = one_second(c, "xpbd", frames, iterations=iterations, options=options)
+        rows.append(Row(f"xpbd, {n}², stiffness ×1000, {substeps} small steps × {iterations} "
+                        f"sweep{'s' if iterations > 1 else ''} per frame"
+                        f"{', long range attachments' if tethers else ''}: peak structural "
+                        f"strain over 1 s (informational)", r["seconds"] * 60 / frames, "–", None,
+                        ratio=f"{100 * r['peak']:.3f} %"))
     return rows
 
 

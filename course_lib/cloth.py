@@ -25,13 +25,16 @@ import numpy as np
 from . import _validate
 from .baraff_witkin import BaraffWitkin
 from .forces import G_EARTH
-from .largestep import XPBD, FastMassSpring, StrainLimiter
+from .largestep import XPBD, FastMassSpring, LongRangeAttachments, StrainLimiter
 from .springs import SpringNetwork, cloth_grid
 from .stability import bisect_stable_dt
 
 METHODS = ("symplectic_euler", "baraff_witkin", "fast_mass_spring", "xpbd")
-#: XPBD's small steps per simulated second when ``options`` gives no ``substeps``.
-XPBD_SUBSTEPS_PER_SECOND = 60 * 30
+#: XPBD's small steps per simulated second when ``options`` gives no ``substeps``: 288 per
+#: 1/60 s frame, the fewest that keep the peak strain of the 32² sheet of issue 19 within
+#: 0.5 percentage points of converged symplectic Euler at stiffness ×100 and ×1000 (with
+#: room for the spread of the whipping free edge; 240 is at the edge).
+XPBD_SUBSTEPS_PER_SECOND = 60 * 288
 
 
 @dataclass
@@ -123,7 +126,10 @@ def simulate(cloth: Cloth, method: str = "symplectic_euler", *, frames: int = 60
     (``iterations`` caps CG). ``"fast_mass_spring"``: implicit Euler by ``iterations``
     (default 20) local/global iterations accelerated by L-BFGS. ``"xpbd"``: each step is
     ``dt`` × :data:`XPBD_SUBSTEPS_PER_SECOND` small XPBD steps (rounded up; or
-    ``options["substeps"]``) of ``iterations`` (default 1) sweeps. ``options`` go to the
+    ``options["substeps"]``) of ``iterations`` (default 1) sweeps; ``options["tethers"]``
+    may be ``True`` or a tether scale ``s >= 1`` for long range attachments from every
+    particle to the pins at ``s`` times its rest distance (Kim et al. 2012; see
+    :class:`~course_lib.largestep.attachments.LongRangeAttachments`). ``options`` go to the
     solver's constructor (e.g. ``{"memory": 0}`` for plain local/global). With
     ``strain_limit=τ`` every spring is kept within ``(1 + τ)`` times its rest length after
     every step (Provot 1995). Then ``post_step(t, y)`` (e.g.
@@ -210,6 +216,12 @@ def _solver(cloth: Cloth, method: str, g, rtol: float, iterations, dt: float, op
         return FastMassSpring(cloth.network, cloth.mass, **common,
                               iterations=iterations or 20, **options)
     options.setdefault("substeps", max(1, math.ceil(dt * XPBD_SUBSTEPS_PER_SECOND - 1e-9)))
+    tethers = options.get("tethers")
+    if tethers is True or (isinstance(tethers, int | float) and not isinstance(tethers, bool)):
+        options["tethers"] = LongRangeAttachments(
+            cloth.x0, cloth.pinned, scale=1.0 if tethers is True else tethers)
+    elif tethers is False:
+        options["tethers"] = None
     return XPBD(cloth.network, cloth.mass, **common, iterations=iterations or 1, **options)
 
 

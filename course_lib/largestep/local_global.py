@@ -17,7 +17,8 @@ Then ``g`` is minimized by alternating two exact steps, neither of which can rai
 - **global**: solve ``(M + h² L_k + h L_c) x = M y + Σ (e_i - e_j)(h² k p + h c e)`` with
   ``L_w`` the ``w``-weighted graph Laplacian of the springs: one *constant* matrix,
   factored once per step length and set of pins (:class:`FactorCache`, sparse LU with a
-  fill-reducing order) and reused by every iteration of every step.
+  fill-reducing order, the pinned rows replaced by the identity) and reused by every
+  iteration of every step.
 
 One local/global iteration is exactly ``x ← x - A⁻¹ ∇g(x)``, a gradient step with the
 constant matrix ``A`` as preconditioner. It converges fast for stretching but slowly for
@@ -30,7 +31,7 @@ Core module: imports NumPy, SciPy, :mod:`course_lib.springs` and :mod:`.base`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -78,13 +79,13 @@ class FactorCache:
 
 @dataclass
 class GlobalSystem:
-    """``A = M + h² L_k + h L_c`` split over free (f) and pinned (p) particles."""
+    """``A = M + h² L_k + h L_c`` with the pinned rows and columns replaced by the identity
+    (so a solve keeps the particle layout and returns a pin's own right-hand side)."""
 
-    lu: object                     # splu of A_ff
-    coupling: sp.csr_matrix        # A_fp
+    lu: object                     # splu of A with identity rows at the pins
+    coupling: sp.csr_matrix        # A_fp, pinned rows zero: N × P
     damping: sp.csr_matrix         # h L_c over all particles
     projection: Projection         # x -> Σ h² k (e_i - e_j) L u
-    free: np.ndarray = field(repr=False)
 
 
 @dataclass
@@ -132,23 +133,28 @@ class FastMassSpring(SpringSolver):
         """The factored global system for step ``h`` and the current pins (cached)."""
         def build():
             net = self.network
-            free = np.flatnonzero(self._free)
             A = (sp.diags(self.mass) + laplacian(net, h * h * net.k + h * net.c)).tocsr()
-            A_ff = A[free][:, free].tocsc()
-            lu = spla.splu(A_ff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+            keep = sp.diags(self._free.astype(float))
+            # Pinned rows and columns out, 1 on their diagonal: the free block A_ff, and
+            # pinned values that pass through a solve unchanged.
+            A_free = (keep @ A @ keep + sp.diags((~self._free).astype(float))).tocsc()
+            lu = spla.splu(A_free, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                            options={"SymmetricMode": True})
-            return GlobalSystem(lu, A[free][:, self.pinned].tocsr(), laplacian(net, h * net.c),
-                                Projection(net, h * h * net.k), free)
+            return GlobalSystem(lu, (keep @ A)[:, self.pinned].tocsr(), laplacian(net, h * net.c),
+                                Projection(net, h * h * net.k))
         return self.cache.get((float(h), self.pinned.tobytes()), build)
 
-    def _solve(self, sys: GlobalSystem, rhs: np.ndarray, x: np.ndarray) -> np.ndarray:
-        """Positions with free rows ``A_ff⁻¹ (rhs_f - A_fp x_p)`` and pinned rows of ``x``."""
-        out = x.copy()
-        r = rhs[sys.free]
+    def _solve(self, sys: GlobalSystem, rhs: np.ndarray, x: np.ndarray | None = None) -> np.ndarray:
+        """Positions with free rows ``A_ff⁻¹ (rhs_f - A_fp x_p)`` and pinned rows of ``x``
+        (``None``: zero at the pins, as for a gradient)."""
+        r = np.array(rhs, order="F")
         if self.pinned.size:
-            r = r - sys.coupling @ x[self.pinned]
-        out[sys.free] = sys.lu.solve(np.asarray(r, order="F"))
-        return out
+            if x is None:
+                r[self.pinned] = 0.0
+            else:
+                r -= sys.coupling @ x[self.pinned]
+                r[self.pinned] = x[self.pinned]
+        return np.ascontiguousarray(sys.lu.solve(r))
 
     def objective(self, x, y, x0, h: float, damping=None) -> tuple[float, np.ndarray]:
         """``g(x)`` (J) and its gradient ``(N, d)`` (zero at pins); ``damping`` is the
@@ -159,8 +165,9 @@ class FastMassSpring(SpringSolver):
         value = 0.5 * _dot(dx, mdx) + h * h * energy
         grad = mdx - (h * h) * force
         if damping is not None:
-            cdx = damping.product(x - x0, stiffness=0.0, damping=h)
-            value += 0.5 * _dot(x - x0, cdx)
+            moved = x - x0
+            cdx = damping.product(moved, stiffness=0.0, damping=h)
+            value += 0.5 * _dot(moved, cdx)
             grad += cdx
         grad[self.pinned] = 0.0
         return value, grad
@@ -207,12 +214,12 @@ class FastMassSpring(SpringSolver):
                 a = rho * _dot(s, q)
                 q -= a * z
                 alphas.append(a)
-            r = self._solve(sys, q, np.zeros_like(q))
+            r = self._solve(sys, q)
             for (s, z, rho), a in zip(pairs, reversed(alphas), strict=True):
                 r += s * (a - rho * _dot(z, r))
             slope = -_dot(grad, r)
             if not slope < 0.0:                      # not a descent direction: restart
-                pairs, r = [], self._solve(sys, grad, np.zeros_like(grad))
+                pairs, r = [], self._solve(sys, grad)
                 slope = -_dot(grad, r)
             if slope == 0.0:
                 break

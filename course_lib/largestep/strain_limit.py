@@ -24,7 +24,7 @@ import numpy as np
 
 from .. import _validate
 from .base import pinned_indices
-from .constraints import ColouredSprings
+from .constraints import TINY, ColouredSprings
 
 
 class StrainLimiter:
@@ -66,27 +66,38 @@ class StrainLimiter:
         self.network = network
         self.springs = ColouredSprings(network, np.where(free, 1.0 / m, 0.0), select)
         for q in self.springs.sets:
-            q["longest"] = (1.0 + self.max_strain) * q["rest"]
+            q.scale = np.where(q.used, 1.0 / np.where(q.used, q.w, 1.0), 0.0)
+            q.longest = (1.0 + self.max_strain) * q.rest * q.scale
+        self._buffers: dict = {}
         self.last_violation = 0.0
 
     @staticmethod
-    def _rule(q, length, u, d):
-        return np.minimum(q["longest"] - length, 0.0) / q["w"]
+    def _rule(q, d, squared):
+        # shorten to the longest length allowed: f = max(ℓ - ℓ_max, 0)/(w ℓ)
+        return np.maximum(q.scale - q.longest / np.sqrt(squared + TINY), 0.0)
 
     def apply(self, x, v, dt: float) -> tuple[np.ndarray, np.ndarray]:
         """Limited positions and velocities (new arrays) after a step of ``dt`` (s) that
         ended at ``(x, v)`` (both ``(N, d)``)."""
         dt = _validate.positive_finite("dt", dt)
-        p = np.array(x, dtype=float)
+        x = np.asarray(x, dtype=float)
+        dim = x.shape[1]
+        if dim not in self._buffers:
+            self._buffers[dim] = self.springs.buffer(dim)
+        buffer = self.springs.load(self._buffers[dim], x)
         for _ in range(self.iterations):
-            self.springs.sweep(p, self._rule)
+            self.springs.sweep(buffer, self._rule)
+        p = buffer[:, :x.shape[0]].T.copy()
         self.last_violation = self.violation(p)
         return p, v + (p - x) / dt
 
     def violation(self, x) -> float:
         """The largest strain beyond :attr:`max_strain` among the limited springs (0 if none)."""
         worst = 0.0
+        x = np.asarray(x, dtype=float)
         for q in self.springs.sets:
-            length = np.linalg.norm(x[q["i"]] - x[q["j"]], axis=1)
-            worst = max(worst, float(np.max(length / q["rest"] - 1.0 - self.max_strain, initial=0.0)))
+            s = q.spring[q.used]
+            length = np.linalg.norm(x[self.network.i[s]] - x[self.network.j[s]], axis=1)
+            worst = max(worst, float(np.max(length / q.rest[q.used] - 1.0 - self.max_strain,
+                                            initial=0.0)))
         return worst
