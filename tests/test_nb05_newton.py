@@ -287,13 +287,38 @@ def n_steps(res):
 
 def test_energy_bands_past_the_limit_and_bad_input():
     res = nb05.energy_bands(2.1)
-    assert not res.stable and res.verdict.startswith("unstable")
+    assert not res.stable and res.verdict.startswith("unstable: ω dt > 2")
+    # exactly at the limit: a Jordan block. Symplectic Euler grows linearly; from (1, 0),
+    # Verlet's eigenvector there, Verlet's energy stays E0 (it flips sign), and from any
+    # other start it grows linearly too
+    edge = nb05.energy_bands(2.0)
+    assert not edge.stable and edge.verdict.startswith("marginal: ω dt = 2")
+    assert edge.spread["velocity_verlet"] == pytest.approx((1.0, 1.0), abs=1e-12)
+    se = edge.ratio["symplectic_euler"]
+    n = np.arange(se.size)
+    assert np.all(np.diff(se) >= 0) and se[-1] > 1e3
+    assert np.sqrt(se[-1]) / n[-1] == pytest.approx(np.sqrt(se[-2]) / n[-2], rel=0.02)  # linear
+    S = cl.lessons.nb07_spring_runs.step_matrix("velocity_verlet", 1.0, 1.0, 0.0, 2.0)
+    assert np.allclose(S @ [1.0, 0.0], [-1.0, 0.0], atol=1e-15)
+    assert np.linalg.norm(np.linalg.matrix_power(S, 40) @ [0.0, 1.0]) > 30   # generic start grows
     assert np.isnan(res.ratio["symplectic_euler"][-1])          # stopped past 1e12
     assert nb05.energy_bands(1.99).stable
     with pytest.raises(ValueError, match="dt"):
         nb05.energy_bands(0.0)
     # the theory bands of the verdict: ω dt = 0.1 gives [0.952, 1.05] and 0.25 %
     assert "[0.952, 1.05]" in nb05.energy_bands(0.1).verdict and "0.25 %" in nb05.energy_bands(0.1).verdict
+
+
+def test_rk4_energy_drift(osc_runs):
+    """'falls a little every step, by |R(iω dt)|² ≈ 1 - (ω dt)^6/72, 1.7e-5 in these 20
+    periods': printed E/E0 = 0.999983 and the theory's value."""
+    E = cl.systems.oscillator_energy(osc_runs["rk4"].y)
+    R = abs(cl.amplification_factor("rk4", 0.1j))
+    assert R**2 == pytest.approx(1 - 0.1**6 / 72 + 0.1**8 / 576, rel=1e-14)   # exactly
+    assert np.all(np.diff(E) < 0)
+    assert E[-1] / 0.5 == pytest.approx(R ** (2 * 1257), rel=1e-12)
+    assert f"{E[-1] / 0.5:.6f}" == "0.999983" and f"{R ** (2 * 1257):.6f}" == "0.999983"
+    assert round(1 - E[-1] / 0.5, 6) == pytest.approx(1.7e-5, abs=5e-7)
 
 
 def test_band_widths_quoted_in_the_key_states():
@@ -377,6 +402,9 @@ PLANTS = [
     Plant("symplectic_euler_step", "other", "updates y in place",
           "def symplectic_euler_step(f, t, y, dt):\n    y[1] += dt * f(t, y)[1]\n"
           "    y[0] += dt * y[1]\n    return y", "incorrect", "changed its input"),
+    Plant("symplectic_euler_step", "other", "acceleration without the velocity (position only)",
+          SE_RIGHT.replace("f(t, y)[1]", "f(t, np.stack((y[0], 0 * y[1])))[1]"), "incorrect",
+          "your acceleration ignores the velocity"),
     Plant("symplectic_euler_step", "other", "velocity update off by a factor (evidence: v wrong)",
           SE_RIGHT.replace("v = y[1] + dt * f(t, y)[1]", "v = y[1] + 2 * dt * f(t, y)[1]"),
           "incorrect", "your positions follow from your velocities"),
@@ -405,6 +433,11 @@ PLANTS = [
           "incorrect", "acceleration at the NEW position"),
     Plant("velocity_verlet_step", "other", "new force at t instead of t + dt",
           VV_RIGHT.replace("f(t + dt,", "f(t,"), "incorrect", "END of the step"),
+    Plant("velocity_verlet_step", "other", "scipy's solve_ivp across the step",
+          "def velocity_verlet_step(f, t, y, dt):\n    from scipy.integrate import solve_ivp\n"
+          "    sol = solve_ivp(lambda s, z: f(s, z.reshape(y.shape)).ravel(), (t, t + dt), "
+          "np.ravel(y), rtol=1e-12, atol=1e-12)\n    return sol.y[:, -1].reshape(y.shape)",
+          "incorrect", "different times: one step of this method evaluates it at t and t + dt only"),
     Plant("impact_time", "other", "right", IMPACT_RIGHT, "correct", ""),
     Plant("impact_time", "other", "right, returned as float32",
           IMPACT_RIGHT.replace("    return t[k - 1]", "    return np.float32(t[k - 1]")
@@ -416,9 +449,13 @@ PLANTS = [
           "def impact_time(t, h):\n    k = np.flatnonzero(h < 0)[0]\n"
           "    return cl.events.crossing_linear(t[k - 1], h[k - 1], t[k], h[k])",
           "incorrect", "uses the reference"),
-    Plant("impact_time", "shortcut", "np.interp on the reversed samples (assumes h decreases)",
+    Plant("impact_time", "shortcut", "np.interp on the reversed samples (finds the last crossing)",
           "def impact_time(t, h):\n    return np.interp(0.0, h[::-1], t[::-1])",
-          "incorrect", "np.interp needs increasing sample points"),
+          "incorrect", "LAST crossing"),
+    Plant("impact_time", "shortcut", "last sample at or above 0 in the whole run: no np.interp hint",
+          "def impact_time(t, h):\n    k = np.flatnonzero(h >= 0)[-1]\n"
+          "    return t[k] + (t[k + 1] - t[k]) * h[k] / (h[k] - h[k + 1])",
+          "incorrect", "LAST crossing", avoid="np.interp"),
     Plant("impact_time", "shortcut", "step taken as t[1] - t[0] (assumes even steps)",
           IMPACT_RIGHT.replace("(t[k] - t[k - 1])", "(t[1] - t[0])"), "incorrect",
           "not evenly spaced"),
@@ -451,7 +488,20 @@ PLANTS = [
           ORDER_RIGHT.replace("np.linalg.norm(a - b), np.linalg.norm(b - c)",
                               "abs(a - b), abs(b - c)"), "incorrect",
           "reduce each difference to one number"),
-    Plant("observed_order", "misconception", "natural logarithm",
+    Plant("observed_order", "misconception", "the ratio itself, no logarithm",
+          ORDER_RIGHT.replace("np.log2(d1 / d2)", "d1 / d2"), "incorrect",
+          "the order is in its exponent"),
+    Plant("observed_order", "other", "the ratio itself: the error follows it, fix p first",
+          ORDER_RIGHT.replace("np.log2(d1 / d2)", "d1 / d2"), "incorrect",
+          "fix the order first"),
+    Plant("observed_order", "other", "signed sums instead of norms",
+          ORDER_RIGHT.replace("np.linalg.norm(a - b), np.linalg.norm(b - c)",
+                              "abs(np.sum(a - b)), abs(np.sum(b - c))"), "incorrect",
+          "not a signed sum"),
+    Plant("observed_order", "other", "finest difference taken as the error, second try: no formula",
+          _order_variant("    return p, d2"), "incorrect", "which multiple", avoid="2^p - 1",
+          attempt=1),
+    Plant("observed_order", "other", "natural logarithm",
           ORDER_RIGHT.replace("np.log2(d1 / d2)", "np.log(d1 / d2)"), "incorrect",
           "base-2 logarithm"),
     Plant("observed_order", "other", "error of the middle run",
@@ -484,15 +534,30 @@ def test_every_exercise_has_the_three_kinds_of_plants():
 
 
 def test_hints_escalate_in_a_kernel(capsys):
-    """The nudge first; the formula only after a second wrong attempt in the same kernel."""
+    """The nudge first; a stronger nudge after a second wrong attempt, never the code."""
     forward = define(PLANTS[5].source, "symplectic_euler_step")
     FAILURES.pop(check.symplectic_euler_step.key, None)
     check.symplectic_euler_step(forward)
     first = capsys.readouterr().out
-    assert "this is forward Euler" in first and "x_new = x + dt v_new" not in first
+    assert "this is forward Euler" in first and "update the velocity first" not in first
     check.symplectic_euler_step(forward)
-    assert "x_new = x + dt v_new (not x + dt v)" in capsys.readouterr().out
+    second = capsys.readouterr().out
+    assert "update the velocity first" in second and "x_new =" not in second
     FAILURES.pop(check.symplectic_euler_step.key, None)
+
+
+NO_CODE = "= x +"      # no hint, at any attempt, writes out the update
+
+
+@pytest.mark.parametrize("attempt", [0, 1, 2])
+def test_no_hint_of_the_step_exercises_prints_the_update(attempt):
+    for plant in PLANTS:
+        steps = ("symplectic_euler_step", "velocity_verlet_step")
+        if plant.exercise in steps and plant.status == "incorrect":
+            judge(check, Plant(plant.exercise, plant.kind, plant.label, plant.source, plant.status,
+                               "", avoid="f(t + dt, (x_new", attempt=attempt))
+            judge(check, Plant(plant.exercise, plant.kind, plant.label, plant.source, plant.status,
+                               "", avoid=NO_CODE, attempt=attempt))
 
 
 def test_checks_report_pending_and_correct_to_results(capsys):

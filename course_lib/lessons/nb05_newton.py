@@ -208,6 +208,11 @@ def energy_bands(dt: float = 0.1, omega: float = 1.0, periods: float = 20.0) -> 
         (lo, hi), vlo = band["symplectic_euler"], band["velocity_verlet"][0]
         verdict = (f"stable: symplectic Euler's E/E0 in [{lo:.3g}, {hi:.3g}], Verlet's up to "
                    f"{(1 - vlo) * 100:.2g} % below 1; {fe} in {periods:g} periods")
+    elif abs(omega * dt - 2.0) <= 1e-12:
+        # a Jordan block (double eigenvalue -1): growth is linear, and x = 1, v = 0 is
+        # Verlet's eigenvector there, so its run only flips sign
+        verdict = ("marginal: ω dt = 2, symplectic Euler grows linearly; Verlet only flips "
+                   f"sign from this start (x = 1, v = 0) but grows from any other; {fe}")
     else:
-        verdict = f"unstable: ω dt ≥ 2, symplectic Euler and Verlet grow; {fe}"
+        verdict = f"unstable: ω dt > 2, symplectic Euler and Verlet grow; {fe}"
     return EnergyBands(dt, omega, t, ratio, band, spread, bool(stable), verdict)
