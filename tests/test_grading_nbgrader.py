@@ -54,12 +54,12 @@ def test_source_notebooks_carry_nbgrader_metadata():
 def test_autograde_test_passes_only_a_correct_answer():
     from course_lib.check import nb02
 
-    autograde_test(nb02.radius_after, lambda r0, dt, n: r0 * (1 + dt**2) ** (n / 2))
-    for answer in (lambda r0, dt, n: r0, lambda r0, dt, n: 1 / 0):
+    autograde_test(nb02.radius_after, lambda r0, dt, n, k: r0 * ((1 - k * dt) ** 2 + dt**2) ** (n / 2))
+    for answer in (lambda r0, dt, n, k: r0, lambda r0, dt, n, k: 1 / 0):
         with pytest.raises(AssertionError, match="radius_after"):
             autograde_test(nb02.radius_after, answer)
 
-    def stub(r0, dt, n):
+    def stub(r0, dt, n, k):
         raise NotImplementedError
 
     with pytest.raises(AssertionError, match="pending"):
