@@ -3,8 +3,10 @@
 Layers (a module may import only from layers above it):
 
 - **core** (this package's top level): integrators, implicit solves, stability, fields,
-  systems, forces, springs, hair strands, collisions, events. Reusable outside the
-  course: no widgets, no plotting, no notebook scenes.
+  systems, forces, springs, hair strands, statics, collisions, events, neighbour search,
+  and, grouped by subject, the large-step cloth solvers (:mod:`~course_lib.largestep`),
+  SPH liquids (:mod:`~course_lib.sph`) and rigid bodies (:mod:`~course_lib.rigid`).
+  Reusable outside the course: no widgets, no plotting, no notebook scenes.
 - **view helpers** (:mod:`~course_lib.plotting`, :mod:`~course_lib.widgets`): styles,
   animation players, the pure-function + thin-view widget pattern.
 - **lessons** (:mod:`course_lib.lessons`): one module per notebook
@@ -28,9 +30,14 @@ from . import (
     forces,
     hair,
     implicit,
+    largestep,
+    neighbors,
     particles,
+    rigid,
+    sph,
     springs,
     stability,
+    statics,
     steppers,
     strands,
     systems,
