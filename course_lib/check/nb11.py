@@ -3,7 +3,12 @@ Baraff-Witkin solve by conjugate gradients, and the peak stretch of a run.
 
 No answer may call the library (``allow=()``): ``cl.springs.jacobian_x``, which the first
 exercise is about, and :class:`~course_lib.baraff_witkin.BaraffWitkin`, which the third
-is about, are refused like every other library function; SciPy's ``cg`` is fine.
+is about, are refused like every other library function; SciPy's ``cg`` is fine. A failure
+is reported in one line (the largest difference and where), and a hint names a mistake
+only when the answer is what that mistake gives: a clamped sideways term, 1 - ℓ/L, d for
+u, a block scaled by the strain (Exercise 1); one mass for all (2); the leading h missing
+from b, or a solve that leaves a residual (3, judged on the answer's own residual); ℓ/L,
+the first or the last frame, one rest length for all, a clamp at 0 (4).
 """
 
 from __future__ import annotations
@@ -12,10 +17,47 @@ import numpy as np
 
 from .. import cloth, springs
 from ..baraff_witkin import BaraffWitkin
-from ..lessons import nb11_cloth
-from . import Checker, exercise
+from . import Checker, Hint, exercise
 
 _SEED = 1111
+
+
+def _judge(ck: Checker, got, expected, what: str, *, rtol: float, atol: float,
+           mistakes=None, hint: Hint = None, unit: str = "") -> bool:
+    """Compare an answer with the expected number or array. A failure names the usual
+    mistake it matches (``mistakes``: a dict hint -> wrong value, or (hint, wrong value)
+    pairs; the first match, within a hundred times the tolerance, wins), else ``hint``, and
+    says where
+    the answer is furthest off in one line, not as a wall of numbers."""
+    e = np.asarray(expected, dtype=float)
+    try:
+        a = np.asarray(got, dtype=float)
+    except (TypeError, ValueError):
+        wanted = "a number" if e.size == 1 else f"an array of shape {e.shape}"
+        return ck.expect(False, what, f"expected {wanted}, got {type(got).__name__}", hint)
+    if a.size == e.size == 1:
+        a = a.reshape(e.shape)
+    if a.shape != e.shape:
+        return ck.expect(False, what, f"expected shape {e.shape}, got shape {a.shape}", hint)
+    if not np.all(np.isfinite(a)):
+        return ck.expect(False, what, "your answer holds NaN or inf",
+                         "look for a division by zero or an unconverged solve")
+    if np.allclose(a, e, rtol=rtol, atol=atol):
+        return ck.expect(True, what)
+    pairs = mistakes.items() if isinstance(mistakes, dict) else (mistakes or ())
+    for mistake, wrong in pairs:       # a diagnosis, not a verdict: matched a hundred times looser
+        w = np.asarray(wrong, dtype=float)
+        if w.shape == a.shape and np.allclose(a, w, rtol=100 * rtol, atol=100 * atol):
+            hint = mistake
+            break
+    if e.size == 1:
+        return ck.expect(False, what, f"expected {float(e):.6g}, got {float(a):.6g}", hint)
+    excess = np.abs(a - e) - (atol + rtol * np.abs(e))
+    at = np.unravel_index(int(np.argmax(excess)), e.shape)
+    where = ", ".join(str(int(k)) for k in at)
+    return ck.expect(False, what, f"{int(np.sum(excess > 0))} of {e.size} entries differ; the largest "
+                     f"difference, {abs(a[at] - e[at]):.2g}{unit}, is at [{where}]: expected "
+                     f"{e[at]:.6g}, got {a[at]:.6g}", hint)
 
 
 def _spring_cases():
@@ -24,6 +66,48 @@ def _spring_cases():
     yield "a compressed spring", rng.normal(size=3), 120.0, 3.0
     for n in range(2):
         yield f"a random spring ({n + 1})", rng.normal(size=3), float(rng.uniform(10, 500)), 1.0
+
+
+def _jacobian_mistakes(d, k, rest, expected) -> dict:
+    """The usual wrong blocks for one spring, with their hints (those equal to the right
+    block on this spring, e.g. a clamp on a stretched spring, left out)."""
+    length = np.linalg.norm(d)
+    u = d / length
+    uu, side = np.outer(u, u), np.eye(3) - np.outer(u, u)
+    dd = np.outer(d, d)
+    mistakes = {
+        ("sign: moving x_i away from x_j along the spring makes F_i pull back harder",
+         "∂F_i/∂x_i = -k[...] is negative along u"): -expected,
+        ("you kept only the stiffness along the spring: a stretched spring also pulls a "
+         "sideways displacement back", "add (1 - L/ℓ)(I - u uᵀ) for the sideways part")
+        if length > rest else
+        ("a compressed spring's sideways term, (1 - L/ℓ)(I - u uᵀ), is negative, and it belongs in "
+         "∂F/∂x: did you leave it out, or clamp it at 0? Dropping it is a choice some solvers make "
+         "for the solve (Choi & Ko 2002), not part of the derivative",
+         "keep (1 - L/ℓ)(I - u uᵀ) with its sign: 1 - L/ℓ < 0 when ℓ < L"): -k * uu,
+        ("check the sideways factor at ℓ = L: a spring at rest has no sideways stiffness",
+         "the sideways factor is (1 - L/ℓ), not L/ℓ"): -k * (uu + rest / length * side),
+        ("the sideways factor is the tension k(ℓ - L) divided by k ℓ",
+         "the sideways factor is (1 - L/ℓ), not (1 - ℓ/L)"): -k * (uu + (1.0 - length / rest) * side),
+        ("the sideways factor must be dimensionless", "the sideways factor is (1 - L/ℓ), "
+         "not ℓ - L"): -k * (uu + (length - rest) * side),
+        ("u uᵀ must be built from a unit vector", "use u = d/|d| in u uᵀ, not d itself"):
+            -k * (dd + (1 - rest / length) * side),
+        ("u uᵀ and I - u uᵀ need the unit vector u = d/|d|", "build both from u = d/|d|, not d"):
+            -k * (dd + (1 - rest / length) * (np.eye(3) - dd)),
+        ("along the spring the stiffness is the full k, whatever the stretch: only the "
+         "sideways part scales with the stretch", "-k [u uᵀ + (1 - L/ℓ)(I - u uᵀ)]: the first term "
+         "is not scaled"): -k * (1.0 - rest / length) * np.eye(3),
+        ("along the spring the stiffness is the full k, whatever the stretch",
+         "-k [u uᵀ + (1 - L/ℓ)(I - u uᵀ)]: nothing is scaled by the strain (ℓ - L)/L"):
+            -k * (length - rest) / rest * np.eye(3),
+    }
+    return {h: w for h, w in mistakes.items() if not np.allclose(w, expected, rtol=1e-9, atol=1e-9)}
+
+
+#: For an answer close to the right block but not equal to it (a finite difference).
+_CLOSE_FORM = ("close, but not exact: is it a finite difference? The check wants Section 3's closed "
+               "form, exact to round-off", "write the closed form, -k[u uᵀ + (1 - L/ℓ)(I - u uᵀ)]")
 
 
 @exercise(allow=())
@@ -35,24 +119,12 @@ def spring_jacobian(ck: Checker, func) -> None:
         xi = xj + d
         net = springs.SpringNetwork([0], [1], [rest], [k], [0.0], 2)
         expected = springs.jacobian_x(net, np.stack((xi, xj))).toarray()[:3, :3]
-        length = np.linalg.norm(d)
-        u = d / length
-        uu, side = np.outer(u, u), np.eye(3) - np.outer(u, u)
-        mistakes = {
-            ("sign: moving x_i away from x_j along the spring makes F_i pull back harder",
-             "∂F_i/∂x_i = -k[...] is negative along u"): -expected,
-            ("you kept only the stiffness along the spring: a stretched spring also pulls a "
-             "sideways displacement back", "add (1 - L/ℓ)(I - u uᵀ) for the sideways part"): -k * uu,
-            ("check the sideways factor at ℓ = L: a spring at rest has no sideways stiffness",
-             "the sideways factor is (1 - L/ℓ), not L/ℓ"): -k * (uu + rest / length * side),
-            ("the sideways factor must be dimensionless", "the sideways factor is (1 - L/ℓ), "
-             "not ℓ - L"): -k * (uu + (length - rest) * side),
-            ("u uᵀ must be built from a unit vector", "use u = d/|d| in u uᵀ, not d itself"):
-                -k * (np.outer(d, d) + (1 - rest / length) * side),
-        }
-        got = np.asarray(func(xi.copy(), xj.copy(), k, rest), dtype=float)
-        ck.close(got, expected, f"{what}: ℓ = {length:.3f} m, L = {rest:g} m, k = {k:g} N/m",
-                 rtol=1e-9, atol=1e-9, mistakes=mistakes)
+        got = func(xi.copy(), xj.copy(), k, rest)
+        near = np.allclose(np.asarray(got, dtype=float), expected, rtol=1e-4, atol=1e-6) \
+            if np.shape(got) == (3, 3) else False
+        _judge(ck, got, expected, f"{what}: ℓ = {np.linalg.norm(d):.3f} m, L = {rest:g} m, k = {k:g} N/m",
+               rtol=1e-9, atol=1e-9, mistakes=_jacobian_mistakes(d, k, rest, expected),
+               hint=_CLOSE_FORM if near else None, unit=" N/m")
     # against central differences of the force
     xi, xj, k, rest = np.array([0.3, -0.2, 0.9]), np.array([-0.1, 0.4, 0.2]), 80.0, 0.5
     h = 1e-6
@@ -60,9 +132,11 @@ def spring_jacobian(ck: Checker, func) -> None:
                     - springs.spring_force_pair(xi - h * e, xj, k, rest)) / (2 * h) for e in np.eye(3)],
                   axis=1)
     got = np.asarray(func(xi.copy(), xj.copy(), k, rest), dtype=float)
-    ck.close(got, fd, "matches central differences of the force", rtol=1e-6, atol=1e-6)
-    ck.close(got, got.T, "symmetric", rtol=1e-12, atol=1e-12,
-             hint="each term, u uᵀ and I - u uᵀ, is symmetric")
+    _judge(ck, got, fd, "matches central differences of the force", rtol=1e-6, atol=1e-6, unit=" N/m")
+    square = got.shape == (3, 3)
+    nearly = square and np.allclose(got, got.T, rtol=1e-6, atol=1e-9)
+    _judge(ck, got, got.T if square else fd, "symmetric", rtol=1e-12, atol=1e-12,
+           hint=_CLOSE_FORM if nearly else "each term, u uᵀ and I - u uᵀ, is symmetric")
 
 
 def _limit_cases():
@@ -87,13 +161,12 @@ def explicit_limit(ck: Checker, func) -> None:
         m3 = np.repeat(m, 3)
         lam = np.linalg.eigvalsh(K / np.sqrt(np.outer(m3, m3)))
         tiled = np.tile(m, 3)
+        one_mass = ("with unequal masses no single mass will do", "with unequal masses no single "
+                    "mass will do: scale each row and column of K by 1/√m of its own particle")
         mistakes = {
             ("include the masses: the frequencies solve K φ = ω² M φ",
              "include the masses: use the eigenvalues of M^(-1/2) K M^(-1/2)"):
                 2.0 / np.sqrt(np.linalg.eigvalsh(K).max()),
-            ("with unequal masses one mass will not do", "with unequal masses one mass will "
-             "not do: scale each row and column of K by 1/√m of its own particle"):
-                2.0 / np.sqrt(np.linalg.eigvalsh(K).max() / m.mean()),
             ("the eigenvalues are ω², not ω", "take a square root: dt_max = 2/√λ_max"):
                 2.0 / lam.max(),
             ("check the stability condition of symplectic Euler (notebook 07)",
@@ -103,10 +176,14 @@ def explicit_limit(ck: Checker, func) -> None:
              "each particle owns three rows in a row (x, y, z): np.repeat(mass, 3), not np.tile"):
                 2.0 / np.sqrt(np.linalg.eigvalsh(K / np.sqrt(np.outer(tiled, tiled))).max()),
         }
+        pairs = [*mistakes.items(), *((one_mass, 2.0 / np.sqrt(np.linalg.eigvalsh(K).max() / m_one))
+                                      for m_one in (m.mean(), m.max(), m.min()))]
+        pairs = [(h, w) for h, w in pairs if not np.isclose(w, expected, rtol=1e-8)]
         got = func(K.copy(), m.copy())
-        ck.close(got, expected, f"{what}: {K.shape[0]} unknowns", rtol=1e-8, mistakes=mistakes,
-                 hint=("the fastest mode sets the limit", "the fastest mode sets the limit: the "
-                       "largest eigenvalue λ_max of M^(-1/2) K M^(-1/2) is ω_max²"))
+        _judge(ck, got, expected, f"{what}: {K.shape[0]} unknowns", rtol=1e-8, atol=0.0,
+               mistakes=pairs, hint=("which matrix's largest eigenvalue is ω_max²? The modes solve "
+                                     "K φ = ω² M φ", "the largest eigenvalue λ_max of "
+                                     "M^(-1/2) K M^(-1/2) is ω_max²: dt_max = 2/√λ_max"))
 
 
 # --- one Baraff-Witkin solve ------------------------------------------------------------
@@ -164,6 +241,9 @@ def bw_velocity_change(ck: Checker, func) -> None:
             ("check the units of the right side: ∂F/∂x v0 is in N/s", "b = h (F0 + h ∂F/∂x v0): "
              "the force's change over the step is h ∂F/∂x v0"):
                 solve(np.diag(m3) - h * dense_v - h * h * dense_x, h * (F0.ravel() + dense_x @ v.ravel())),
+            ("check the units of the right side: A Δv is a momentum (kg m/s), so b is an impulse, "
+             "force × time", "b = h (F0 + h ∂F/∂x v0): the leading h is missing"):
+                solve(np.diag(m3) - h * dense_v - h * h * dense_x, right),
         }
         got = func(mass.copy(), dFdx.copy(), dFdv.copy(), F0.copy(), v.copy(), h)
         try:
@@ -174,49 +254,76 @@ def bw_velocity_change(ck: Checker, func) -> None:
         if got.shape == (x.size,):
             got = got.reshape(x.shape)
         scale = np.abs(expected).max()
-        ck.close(got, expected, what, rtol=1e-6, atol=1e-7 * scale, mistakes=mistakes,
-                 hint=("close, but not to 1e-6: is the solve converged?",
-                       "conjugate gradients stop at their tolerance: pass rtol=1e-10 (SciPy's "
-                       "default, 1e-5, leaves errors of about κ × 1e-5)"))
+        A = np.diag(m3) - h * dense_v - h * h * dense_x
+        residual = (np.linalg.norm(h * right - A @ got.ravel()) / np.linalg.norm(h * right)
+                    if got.shape == x.shape and np.all(np.isfinite(got)) else np.inf)
+        hint = (("your Δv solves the system, but only roughly: is the solve converged?",
+                 f"your Δv leaves a relative residual of {residual:.0e}: conjugate gradients stop "
+                 "at their tolerance, so pass rtol=1e-10 (SciPy's default, 1e-5, leaves errors of "
+                 "about κ × 1e-5)") if residual < 1e-2 else
+                ("compare your A and b with Section 3's system term by term: what do the failing "
+                 "cases have in common (damping, motion, unequal masses)?",))
+        _judge(ck, got, expected, what, rtol=1e-6, atol=1e-7 * scale, mistakes=mistakes, hint=hint,
+               unit=" m/s")
 
 
 # --- the peak stretch of a run --------------------------------------------------------------
 
 
 def _strain_cases():
+    """Runs of small cloths: a stretch early and a larger compression late (the largest
+    strain, not |strain|, and not the last frame), a wandering cloth, a falling one, every
+    spring family at once (rest lengths 5, 7 and 10 cm: one rest length will not do), and a
+    cloth shrunk in every frame (every strain negative: the largest is still a strain)."""
     rng = np.random.default_rng(_SEED + 4)
     sheet = cloth.sheet(n=4, size=0.3, total_mass=0.02)
+    struct = sheet.network.select("struct")
     frames = np.repeat(sheet.x0[None], 5, axis=0)
     frames[2, 5] += [0.0, 0.0, 0.012]                  # a stretch in the middle of the run
     frames[4, 9] += [0.0, 0.0, -0.03]                  # a larger compression at the end
-    yield "a 4 × 4 cloth: stretched at frame 2, compressed more at frame 4", frames, sheet
+    yield "a 4 × 4 cloth: stretched at frame 2, compressed more at frame 4", frames, struct
     drift = sheet.x0[None] + np.cumsum(0.002 * rng.normal(size=(40, *sheet.x0.shape)), axis=0)
-    yield "a 4 × 4 cloth wandering for 40 frames", drift, sheet
+    yield "a 4 × 4 cloth wandering for 40 frames", drift, struct
     big = cloth.sheet(n=8, size=0.5, total_mass=0.05)
     run = cloth.simulate(big, "symplectic_euler", frames=12, substeps=40)
-    yield "an 8 × 8 cloth falling for 12 frames", run.x, big
+    yield "an 8 × 8 cloth falling for 12 frames", run.x, big.network.select("struct")
+    wide = cloth.sheet(n=5, size=0.2, total_mass=0.02)
+    wobble = wide.x0[None] + np.cumsum(0.001 * rng.normal(size=(12, *wide.x0.shape)), axis=0)
+    wobble[0, 12] += [0.004, 0.0, 0.0]                 # the first frame stretches the most
+    yield "a 5 × 5 cloth, every spring family (rest lengths 5 to 10 cm)", wobble, wide.network
+    shrink = sheet.x0[None] * np.linspace(0.97, 0.9, 6)[:, None, None]
+    yield "a 4 × 4 cloth shrinking: every spring compressed in every frame", shrink, struct
 
 
 @exercise(allow=())
 def peak_strain(ck: Checker, func) -> None:
     """``func(x, i, j, rest) -> float``: the largest ``(ℓ - L)/L`` over frames and springs."""
-    for what, x, sheet in _strain_cases():
-        s = sheet.network.select("struct")
-        strain = nb11_cloth.strains(sheet, x)              # the notebook's own definition
+    for what, x, s in _strain_cases():
+        length = np.linalg.norm(x[:, s.j] - x[:, s.i], axis=-1)        # (frames, springs)
+        strain = (length - s.rest) / s.rest
         expected = float(strain.max())
-        mistakes = {
-            ("compression is not stretch: take the largest (ℓ - L)/L, keeping its sign",
-             "np.max((ℓ - L) / L), not np.max(|ℓ - L| / L)"): float(np.abs(strain).max()),
-            ("the stretch can peak before the last frame", "take the largest over every frame"):
-                float(strain[-1].max()),
-            ("strain is relative to the rest length L", "(ℓ - L) / L, not (ℓ - L) / ℓ"):
-                float(((np.linalg.norm(x[:, s.j] - x[:, s.i], axis=-1) - s.rest)
-                       / np.linalg.norm(x[:, s.j] - x[:, s.i], axis=-1)).max()),
-            ("a strain is a fraction", "return the fraction (0.05), not the percentage (5)"):
-                100 * expected,
-            ("the largest over the springs, not their mean", "np.max over frames and springs"):
-                float(strain.mean(axis=1).max()),
-        }
+        mistakes = [
+            (("compression is not stretch: take the largest (ℓ - L)/L, keeping its sign",
+              "np.max((ℓ - L) / L), not np.max(|ℓ - L| / L)"), float(np.abs(strain).max())),
+            (("a strain can be negative: when every spring is compressed, the largest strain is "
+              "below 0", "return np.max((ℓ - L) / L) as it is, without clamping it at 0"),
+             max(0.0, expected)),
+            (("the stretch can peak before the last frame", "take the largest over every frame"),
+             float(strain[-1].max())),
+            (("the stretch can peak in any frame, the first too", "take the largest over every frame"),
+             float(strain[0].max())),
+            (("strain is relative to the rest length L", "(ℓ - L) / L, not (ℓ - L) / ℓ"),
+             float(((length - s.rest) / length).max())),
+            (("strain is 0 at rest: (ℓ - L)/L, not ℓ/L", "subtract 1: (ℓ - L)/L = ℓ/L - 1"),
+             float((length / s.rest).max())),
+            (("each spring has its own rest length", "divide by rest[s] of each spring, not one "
+              "rest length for all"), float(((length - s.rest.mean()) / s.rest.mean()).max())),
+            (("a strain is a fraction", "return the fraction (0.05), not the percentage (5)"),
+             100 * expected),
+            (("the largest over the springs, not their mean", "np.max over frames and springs"),
+             float(strain.mean(axis=1).max())),
+        ]
+        mistakes = [(h, w) for h, w in mistakes if not np.isclose(w, expected, rtol=1e-9)]
         got = func(x.copy(), s.i.copy(), s.j.copy(), s.rest.copy())
-        ck.close(got, expected, f"{what}: {len(s.rest)} structural springs", rtol=1e-9,
-                 atol=1e-12, mistakes=mistakes)
+        _judge(ck, got, expected, f"{what}: {len(s.rest)} springs", rtol=1e-9, atol=1e-12,
+               mistakes=mistakes)

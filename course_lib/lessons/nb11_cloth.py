@@ -96,10 +96,17 @@ def condition_numbers(c: cloth.Cloth, h: float) -> dict:
             "formula": float(1.0 + (h * omega) ** 2)}
 
 
-def cg_bound(kappa: float, rtol: float) -> int:
-    """Iterations after which conjugate gradients has surely reduced the error (in the
-    energy norm) by ``rtol``: ``½ √κ ln(2/rtol)``, from ``2 ((√κ − 1)/(√κ + 1))^k``."""
-    return int(np.ceil(0.5 * np.sqrt(kappa) * np.log(2.0 / rtol)))
+def cg_bound(kappa: float, rtol: float, kappa_residual: float | None = None) -> int:
+    """Iterations after which (preconditioned) conjugate gradients has surely reduced the
+    error in the energy norm by ``rtol``: ``½ √κ ln(2/rtol)``, from the bound
+    ``2 ((√κ − 1)/(√κ + 1))^k`` with ``κ`` that of the preconditioned matrix. With
+    ``kappa_residual`` (``κ`` of the matrix itself), the bound for a stop on the relative
+    residual ``|b − A x| <= rtol |b|`` from a zero start, as SciPy's ``cg`` stops: the
+    residual is ``A e``, between ``√λ_min`` and ``√λ_max`` times the energy norm of the error
+    ``e``, so its ratio may exceed the error's by ``√κ_residual``:
+    ``½ √κ ln(2 √κ_residual / rtol)``."""
+    factor = 1.0 if kappa_residual is None else np.sqrt(kappa_residual)
+    return int(np.ceil(0.5 * np.sqrt(kappa) * np.log(2.0 * factor / rtol)))
 
 
 def rest_state(c: cloth.Cloth, start=None, gravity=(0.0, -9.81, 0.0)):

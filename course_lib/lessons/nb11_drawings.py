@@ -124,7 +124,8 @@ def draw_large_steps(rows, fps: float = 30.0):
               label="substeps per frame")
     ax.loglog(k, [r["iterations"] for r in rows], "s-", color=METHOD_COLORS["backward_euler"],
               label="CG iterations per frame")
-    ax.loglog(k, rows[0]["substeps"] * np.sqrt(k / k[0]), ":", color="0.5", label=r"$\propto\sqrt{k}$")
+    ax.loglog(k, 0.5 * rows[0]["substeps"] * np.sqrt(k / k[0]), ":", color="0.4",
+              label=r"guide $\propto\sqrt{k}$ (slope ½)")                 # below the substeps
     ax.set(xlabel="structural stiffness k (N/m)", ylabel="per frame (1/30 s)", title="work per frame")
     ax.set_yticks([30, 100, 300], labels=["30", "100", "300"])
     ax.yaxis.set_minor_formatter(plt.NullFormatter())
