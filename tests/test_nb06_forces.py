@@ -43,14 +43,36 @@ def test_two_body_period():
 
 
 def test_two_body_period_error_is_second_order():
+    """The table: period error (ω dt)²/3 and radius error (ω dt)²/2 at 1000, 2000 and 4000
+    steps per period, printed to 3 digits; each halving divides both by 4. The formulas are
+    first order in (ω dt)²: their next term is about (ω dt)² times smaller (4e-5 here)."""
     masses, y0, T = nb06.two_body_circular(M=1.0, m=0.01, r=1.0, G=1.0)
     system = cl.newtonian(cl.forces.nbody_gravity(masses, G=1.0), masses)
+    printed = {1000: ("1.316e-05", "1.974e-05"), 2000: ("3.290e-06", "4.935e-06"),
+               4000: ("8.225e-07", "1.234e-06")}
     errs = []
-    for steps in (1000, 2000):
-        orbit = cl.integrate(system, y0, (0.0, 5 * T), T / steps, "velocity_verlet")
+    for steps, (shown_T, shown_r) in printed.items():
+        orbit = cl.integrate(system, y0, (0.0, (5 if steps == 2000 else 3) * T), T / steps,
+                             "velocity_verlet")
         sep = orbit.y[:, 0, 1] - orbit.y[:, 0, 0]
-        errs.append(abs(events.measured_period(orbit.t, sep[:, 1]) / T - 1))
-    assert errs[0] / errs[1] == pytest.approx(4.0, rel=0.01)           # shrinks like dt²
+        err_T = events.measured_period(orbit.t, sep[:, 1]) / T - 1
+        err_r = np.abs(np.linalg.norm(sep, axis=1) - 1.0).max()
+        wdt = 2 * np.pi / steps
+        assert err_T > 0                                            # a lag: the period is longer
+        assert err_T == pytest.approx(wdt**2 / 3, rel=2e-4)
+        assert err_r == pytest.approx(wdt**2 / 2, rel=2e-4)
+        assert (f"{err_T:.3e}", f"{err_r:.3e}") == (shown_T, shown_r)
+        assert (f"{wdt**2 / 3:.3e}", f"{wdt**2 / 2:.3e}") == (shown_T, shown_r)
+        errs.append(err_T)
+    assert errs[0] / errs[1] == pytest.approx(4.0, rel=1e-3)           # shrinks like dt²
+    assert errs[1] / errs[2] == pytest.approx(4.0, rel=1e-3)
+    # the derivation: Verlet's own circle turns by theta with 2(1 - cos theta) = (w dt)^2 and
+    # needs the speed r sin(theta)/dt, (w dt)^2/8 slower than w r; 3/8 - 1/24 = 1/3
+    wdt = 2 * np.pi / 2000
+    theta = np.arccos(1 - wdt**2 / 2)
+    assert theta / wdt - 1 == pytest.approx(wdt**2 / 24, rel=1e-3)
+    assert 1 - np.sin(theta) / wdt == pytest.approx(wdt**2 / 8, rel=1e-3)
+    assert 3 / 8 - 1 / 24 == pytest.approx(1 / 3)
 
 
 def test_orbit_error_panel():
@@ -197,6 +219,7 @@ def test_quadratic_drag():
 
 
 def test_static_friction():
+    """Also the printed creep at half the step: 1.5 mm (F dt T / m)."""
     mu = 0.5
     assert round(mu * 1.0 * G, 3) == 4.905
     held = nb06.pushed_puck(3.0, mu)
@@ -274,6 +297,31 @@ def test_bounce_post_step_error_shrinks_with_dt():
         t, h, _ = nb06.bouncing_ball(dt=dt, t_end=1.0, locate=False)
         errs.append(abs(events.local_maxima(t, h)[1][0] - 0.64))
     assert errs[1] < errs[0] / 5
+    # printed: the four ratios off e² by up to 0.033, 0.024 and 0.0075 at 0.01, 0.005, 0.0025 s
+    worst = []
+    for dt in (0.01, 0.005, 0.0025):
+        t, h, _ = nb06.bouncing_ball(h0=1.0, restitution=0.8, dt=dt, t_end=3.0, locate=False)
+        _, peaks = events.local_maxima(t, h)
+        worst.append(np.abs(peaks[:4] / np.r_[1.0, peaks[:3]] - 0.64).max())
+    assert [f"{w:.4f}" for w in worst[1:]] == ["0.0243", "0.0075"]
+    assert round(worst[0], 3) == 0.033 and round(worst[1], 3) == 0.024
+    assert worst[0] > worst[1] > worst[2]
+
+
+def test_located_bounce_step_is_the_notebooks_ball():
+    """The exercise's reference, stepped 300 times, is section 6's located-impact run."""
+    _t, h, v = nb06.bouncing_ball(h0=1.0, restitution=0.8, dt=0.01, t_end=3.0, locate=True)
+    hh, vv, heights = np.array([1.0]), np.array([0.0]), [1.0]
+    for _ in range(300):
+        hh, vv = nb06.located_bounce_step(hh, vv, 0.01, restitution=0.8)
+        heights.append(hh[0])
+    assert np.allclose(heights, h, rtol=0, atol=1e-12) and np.isclose(vv[0], v[-1], atol=1e-12)
+    # a ball just bounced (on the ground, moving up) lands again at 2 v / g
+    h1, v1 = nb06.located_bounce_step(np.array([0.0]), np.array([0.04]), 0.01, 9.81, 0.5)
+    s = 2 * 0.04 / 9.81
+    up = 0.5 * 0.04
+    assert h1[0] == pytest.approx(up * (0.01 - s) - 0.5 * 9.81 * (0.01 - s) ** 2, abs=1e-15)
+    assert v1[0] == pytest.approx(up - 9.81 * (0.01 - s), abs=1e-14)
 
 
 def test_helix():
@@ -338,6 +386,12 @@ def test_steering_widget_and_pure_function():
     view.controls["wind"].value = 2.0
     assert view.result.wind[0] == 2.0
     assert view.result.centroid[0] > -1.5                           # blown downstream (+x)
+    # the particles blown past the panel are marked at its edge, and counted in the legend
+    fig = nb06.draw_swarm(nb06.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=2.0))
+    labels = [text.get_text() for text in fig.axes[0].get_legend().get_texts()]
+    away = np.any(np.abs(nb06.steer_swarm(cx=1.0, cy=0.5, strength=2.0, wind=2.0).x[-1]) > 2.5,
+                  axis=1).sum()
+    assert away > 0 and f"end off the panel ({away})" in labels
 
 
 # --- the checks --------------------------------------------------------------------------
@@ -346,7 +400,16 @@ def test_steering_widget_and_pure_function():
 DRAG_RIGHT = "def drag_force(v, b, wind):\n    return -b * (v - wind)"
 TERMINAL_RIGHT = ("def terminal_speed(m, g, b, c):\n"
                   "    return 2 * m * g / (b + np.sqrt(b * b + 4 * c * m * g))")
-CIRCULAR_RIGHT = "def circular_speed(G, M, r):\n    return np.sqrt(G * M / r)"
+LOCATED_RIGHT = """def located_bounce(h, v, dt, g, e):
+    h, v = np.asarray(h, dtype=float), np.asarray(v, dtype=float)
+    h_free = h + v * dt - 0.5 * g * dt**2
+    hit = h_free < 0
+    s = (v + np.sqrt(v**2 + 2 * g * h)) / g
+    s = np.where(hit, s, dt)
+    v_up = -e * (v - g * s)
+    rest = dt - s
+    return (np.where(hit, v_up * rest - 0.5 * g * rest**2, h_free),
+            np.where(hit, v_up - g * rest, v - g * dt))"""
 NBODY_RIGHT = """def nbody_force(x, mass, G, softening):
     r = x[:, None, :] - x[None, :, :]
     d2 = np.sum(r * r, axis=-1) + softening**2
@@ -397,6 +460,16 @@ PLANTS = [
           "incorrect", "not v + wind"),
     Plant("drag_force", "other", "sign error", DRAG_RIGHT.replace("-b *", "b *"), "incorrect",
           "sign error"),
+    Plant("drag_force", "shortcut", "a loop over the particles",
+          "def drag_force(v, b, wind):\n    F = np.zeros(np.shape(v))\n"
+          "    for k in range(len(v)):\n        F[k] = -b * (v[k] - wind)\n    return F",
+          "incorrect", "loops over the particles one at a time"),
+    Plant("drag_force", "other", "quadratic drag", "def drag_force(v, b, wind):\n"
+          "    return -b * np.linalg.norm(v - wind, axis=1, keepdims=True) * (v - wind)",
+          "incorrect", "that is quadratic drag"),
+    Plant("drag_force", "other", "in place: a nudge without the answer",
+          "def drag_force(v, b, wind):\n    v -= wind\n    v *= -b\n    return v",
+          "incorrect", "overwrites the particles' velocities", avoid="-b * (v - wind)"),
     Plant("terminal_speed", "other", "right", TERMINAL_RIGHT, "correct", ""),
     Plant("terminal_speed", "delegating", "integrate to steady state",
           "def terminal_speed(m, g, b, c):\n"
@@ -420,25 +493,73 @@ PLANTS = [
     Plant("terminal_speed", "other", "quadratic drag alone",
           "def terminal_speed(m, g, b, c):\n    return np.sqrt(m * g / c) if c else m * g / b",
           "incorrect", "quadratic drag alone"),
+    Plant("terminal_speed", "other", "the two terminal speeds added",
+          "def terminal_speed(m, g, b, c):\n    with np.errstate(all='ignore'):\n"
+          "        return (m * g / b if b else 0) + (np.sqrt(m * g / c) if c else 0)",
+          "incorrect", "adding the two terminal speeds overshoots"),
+    Plant("terminal_speed", "other", "forgot g",
+          TERMINAL_RIGHT.replace("2 * m * g /", "2 * m /").replace("4 * c * m * g", "4 * c * m"),
+          "incorrect", "you forgot g"),
+    Plant("terminal_speed", "other", "the textbook root, second try: no formula printed",
+          "def terminal_speed(m, g, b, c):\n    with np.errstate(all='ignore'):\n"
+          "        return (-b + np.sqrt(b * b + 4 * c * m * g)) / (2 * c)",
+          "incorrect", "multiply the root's numerator", avoid="2 m g / (b +", attempt=1),
     Plant("terminal_speed", "other", "forgot the mass",
           TERMINAL_RIGHT.replace("2 * m * g /", "2 * g /").replace("4 * c * m * g", "4 * c * g"),
           "incorrect", "forgot the mass"),
-    Plant("circular_speed", "other", "right", CIRCULAR_RIGHT, "correct", ""),
-    Plant("circular_speed", "other", "right, float32", CIRCULAR_RIGHT.replace(
-        "np.sqrt(G * M / r)", "np.float32(np.sqrt(G * M / r))"), "correct", ""),
-    Plant("circular_speed", "delegating", "shoots orbits with cl.integrate",
-          "def circular_speed(G, M, r):\n"
-          "    f = cl.newtonian(cl.forces.attractor((0.0, 0.0), G * M, 0.0), 1.0)\n"
-          "    y = cl.integrate(f, np.array([[[r, 0.0]], [[0.0, 1.0]]]), (0, 1), 0.5, 'rk4').y\n"
-          "    return np.sqrt(G * M / r)", "incorrect", "uses the reference"),
-    Plant("circular_speed", "shortcut", "leaves out G (the first cases have G = 1)",
-          "def circular_speed(G, M, r):\n    return np.sqrt(M / r)", "incorrect",
-          "you left out G"),
-    Plant("circular_speed", "misconception", "escape speed",
-          "def circular_speed(G, M, r):\n    return np.sqrt(2 * G * M / r)", "incorrect",
-          "escape speed"),
-    Plant("circular_speed", "other", "forgot the square root",
-          "def circular_speed(G, M, r):\n    return G * M / r", "incorrect", "take the square root"),
+    Plant("located_bounce", "other", "right", LOCATED_RIGHT, "correct", ""),
+    Plant("located_bounce", "other", "right, in the cancellation-free form",
+          LOCATED_RIGHT.replace("s = (v + np.sqrt(v**2 + 2 * g * h)) / g",
+                                "d = np.sqrt(v**2 + 2 * g * h)\n"
+                                "    with np.errstate(invalid='ignore'):   # 0/0 where unused\n"
+                                "        s = np.where(v > 0, (v + d) / g, 2 * h / (d - v))"),
+          "correct", ""),
+    Plant("located_bounce", "delegating", "the lesson's step",
+          "def located_bounce(h, v, dt, g, e):\n"
+          "    return lesson06.located_bounce_step(h, v, dt, g, e)", "incorrect",
+          "course_lib.lessons.nb06_forces.located_bounce_step"),
+    Plant("located_bounce", "delegating", "cl.events.crossing_ballistic per ball",
+          LOCATED_RIGHT.replace("s = (v + np.sqrt(v**2 + 2 * g * h)) / g",
+                                "s = np.array([cl.events.crossing_ballistic(a, b, -g) "
+                                "for a, b in zip(h, v)])"), "incorrect", "uses the reference"),
+    Plant("located_bounce", "shortcut", "post-step response (bounce at the end of the step)",
+          """def located_bounce(h, v, dt, g, e):
+    h2, v2 = h + v * dt - 0.5 * g * dt**2, v - g * dt
+    hit = h2 < 0
+    return np.where(hit, 0.0, h2), np.where(hit, -e * v2, v2)""", "incorrect",
+          "locate the impact inside the step"),
+    Plant("located_bounce", "shortcut", "a ball on the ground taken as hitting it",
+          LOCATED_RIGHT.replace("hit = h_free < 0", "hit = (h_free < 0) | (h == 0)"),
+          "incorrect", "has just bounced"),
+    Plant("located_bounce", "shortcut", "a loop over the balls", """def located_bounce(h, v, dt, g, e):
+    out_h, out_v = [], []
+    for a, b in zip(h, v):
+        free = a + b * dt - 0.5 * g * dt**2
+        if free >= 0:
+            out_h.append(free)
+            out_v.append(b - g * dt)
+        else:
+            s = (b + np.sqrt(b * b + 2 * g * a)) / g
+            up, r = -e * (b - g * s), dt - s
+            out_h.append(up * r - 0.5 * g * r * r)
+            out_v.append(up - g * r)
+    return np.array(out_h), np.array(out_v)""", "incorrect", "loops over the particles"),
+    Plant("located_bounce", "misconception", "impact time from a straight line, h / |v|",
+          LOCATED_RIGHT.replace("s = (v + np.sqrt(v**2 + 2 * g * h)) / g",
+                                "s = np.minimum(h / np.abs(v), dt)").replace(
+              "def located_bounce", "import warnings\nwarnings.simplefilter('ignore')\n"
+              "def located_bounce"), "incorrect", "the step's own quadratic"),
+    Plant("located_bounce", "other", "bounces the velocity of the step's start",
+          LOCATED_RIGHT.replace("v_up = -e * (v - g * s)", "v_up = -e * v"), "incorrect",
+          "the velocity it has then"),
+    Plant("located_bounce", "other", "stops at the impact",
+          LOCATED_RIGHT.replace("return (np.where(hit, v_up * rest - 0.5 * g * rest**2, h_free),\n"
+                                "            np.where(hit, v_up - g * rest, v - g * dt))",
+                                "return np.where(hit, 0.0, h_free), np.where(hit, v_up, v - g * dt)"),
+          "incorrect", "fly the rest of the step"),
+    Plant("located_bounce", "other", "rebound pointing down",
+          LOCATED_RIGHT.replace("v_up = -e * (v - g * s)", "v_up = e * (v - g * s)"),
+          "incorrect", "the rebound must point up"),
     Plant("nbody_force", "other", "right", NBODY_RIGHT, "correct", ""),
     Plant("nbody_force", "delegating", "cl.forces.nbody_gravity_force",
           "def nbody_force(x, mass, G, softening):\n"
@@ -492,6 +613,15 @@ PLANTS = [
     Plant("bounce", "other", "friction from |v_n| instead of (1 + e)|v_n|",
           BOUNCE_RIGHT.replace("friction * (1 + restitution) *", "friction *"), "incorrect",
           "(1 + e)|v_n|"),
+    Plant("bounce", "other", "no friction at all",
+          BOUNCE_RIGHT.replace("loss = friction * (1 + restitution) * np.abs(vn)", "loss = 0 * vn"),
+          "incorrect", "your bounce has no friction"),
+    Plant("bounce", "other", "friction per tangential component (a 2D habit)",
+          BOUNCE_RIGHT.replace(
+              "    scale = np.maximum(0.0, 1.0 - loss / np.where(speed_t > 0, speed_t, 1.0))\n"
+              "    new_v = scale[:, None] * vt\n",
+              "    new_v = np.sign(vt) * np.maximum(0.0, np.abs(vt) - loss[:, None])\n"),
+          "incorrect", "as one vector"),
     Plant("bounce", "other", "changes y in place",
           BOUNCE_RIGHT.replace("x, v = y[0].copy(), y[1].copy()", "x, v = y[0], y[1]"),
           "incorrect", "changed its input y"),
@@ -504,22 +634,25 @@ def test_planted_answer(plant):
 
 
 def test_every_exercise_has_the_three_kinds_of_plants():
-    for exercise in ("drag_force", "terminal_speed", "circular_speed", "nbody_force", "bounce"):
+    for exercise in ("drag_force", "terminal_speed", "located_bounce", "nbody_force", "bounce"):
         kinds = {p.kind for p in PLANTS if p.exercise == exercise}
         assert {"delegating", "shortcut", "misconception"} <= kinds, exercise
 
 
-def test_circular_speed_flies_the_orbit_and_checks_report_pending(capsys):
+def test_located_bounce_measures_the_apexes_and_checks_report_pending(capsys):
     def stub(*args):
         raise NotImplementedError()
 
-    for name in ("drag_force", "terminal_speed", "circular_speed", "nbody_force", "bounce"):
+    for name in ("drag_force", "terminal_speed", "located_bounce", "nbody_force", "bounce"):
         getattr(check, name)(stub)
         assert RESULTS[f"nb06.{name}"]["status"] == "pending"
-    check.circular_speed(define("def circular_speed(G, M, r):\n    return np.sqrt(2 * G * M / r)",
-                                "circular_speed"))
-    out = capsys.readouterr().out
-    assert "escape speed" in out and "misses its start" in out
-    check.circular_speed(define(CIRCULAR_RIGHT, "circular_speed"))
-    assert RESULTS["nb06.circular_speed"]["status"] == "correct"
-    assert "the orbit closes after one period" in capsys.readouterr().out
+    check.located_bounce(define(LOCATED_RIGHT, "located_bounce"))
+    assert RESULTS["nb06.located_bounce"]["status"] == "correct"
+    assert "each apex e² = 0.64 of the one before" in capsys.readouterr().out
+
+
+def test_scipy_refusal_names_scipy_not_the_library():
+    """What the check prints when an analysis exercise is answered with scipy.integrate."""
+    plant = next(p for p in PLANTS if p.label == "scipy's solve_ivp (imported by the cell)")
+    verdict = judge(check, plant)
+    assert "this exercise refuses scipy.integrate" in verdict["reference"]

@@ -7,6 +7,8 @@
   of ``nan`` as the answer;
 - :func:`escalate`: a hint that names the mistake first and adds the fix after another
   wrong attempt (:meth:`~course_lib.check.Checker.pick`);
+- :func:`call_whole_array`: run an answer that must work on whole arrays under a budget of
+  Python lines (a loop over the particles runs one pass per particle), saying so if not;
 - :func:`consistent_hint`: the one mistake that explains every case an answer gets wrong,
   so that two mistakes that coincide on one case (a sign error and a force on the length,
   on a spring compressed to half its rest length) are told apart by the other cases.
@@ -19,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import Checker, Hint
+from ._answers import call_analysis
 
 
 def precision_rtol(answer, rtol: float) -> float:
@@ -108,3 +111,15 @@ def consistent_hint(results, rtol: float = 1e-9, atol: float = 1e-12) -> Hint:
         if explained and shown:
             return hint
     return None
+
+
+def call_whole_array(ck: Checker, what: str, budget: int, hint: Hint, func, *args):
+    """:func:`~course_lib.check._answers.call_analysis` for an answer that must work on whole
+    arrays: more than ``budget`` lines of Python means a loop over the particles (or balls,
+    or bodies), and the failure says that rather than "steps through the run"."""
+    ok, got = call_analysis(ck, what, budget, hint, func, *args)
+    if not ok and ck.failed and "lines of Python" in ck.failed[-1]:
+        ck.failed[-1] = ck.failed[-1].replace(
+            "it steps through the run instead of evaluating the result",
+            "it loops over the particles one at a time instead of working on whole arrays")
+    return ok, got

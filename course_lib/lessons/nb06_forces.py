@@ -192,6 +192,30 @@ def bouncing_ball(h0: float = 1.0, restitution: float = 0.8, g: float = G_STD,
     return t, h, v
 
 
+def located_bounce_step(h, v, dt: float, g: float = G_STD, restitution: float = 0.8):
+    """One step ``dt`` of balls at heights ``h`` (m, all ``>= 0``) with vertical velocities
+    ``v`` (m/s, arrays of one shape) under gravity ``g`` above the ground ``h = 0``, the
+    impact located inside the step: the exercise of notebook 06. Returns ``(h, v)``.
+
+    A ball that would end the step below ground hits it at the positive root ``s`` of the
+    step's own quadratic ``h + v s - g s²/2 = 0``, leaves with ``-e (v - g s)`` and flies the
+    rest of the step, ``dt - s``. At most one impact per step (the caller's step is short
+    enough); a ball resting on the ground (``h = v = 0``) has no impact to locate.
+    """
+    h, v = np.asarray(h, dtype=float), np.asarray(v, dtype=float)
+    free_h, free_v = h + v * dt - 0.5 * g * dt**2, v - g * dt
+    hit = free_h < 0.0
+    disc = np.sqrt(np.maximum(v * v + 2.0 * g * h, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # the positive root, written without cancellation on either sign of v
+        s = np.where(v > 0.0, (v + disc) / g, 2.0 * h / (disc - v))
+    s = np.where(hit, s, dt)
+    up = -restitution * (v - g * s)
+    rest = dt - s
+    return (np.where(hit, up * rest - 0.5 * g * rest**2, free_h),
+            np.where(hit, up - g * rest, free_v))
+
+
 def charged_particle(q: float = 1.0, m: float = 1.0, B=(0.0, 0.0, 2.0), v0=(1.0, 0.0, 0.3),
                      dt: float = 0.01, t_end: float = 10.0, method: str = "rk4") -> Trajectory:
     """A charge released at the origin with velocity ``v0`` in a uniform magnetic field."""
@@ -238,6 +262,10 @@ def steer_swarm(cx: float = 0.0, cy: float = 0.0, strength: float = 1.0, wind: f
     return SteeringResult(traj.t, x, center, w, centroid, spread)
 
 
+#: Half the width of the swarm's panel (m); particles beyond it are marked at its edge.
+_EDGE = 2.5
+
+
 def draw_swarm(result: SteeringResult, ax=None):
     """Draw the particle paths, their final positions, the attractor and the wind."""
     import matplotlib.pyplot as plt
@@ -249,8 +277,13 @@ def draw_swarm(result: SteeringResult, ax=None):
     ax.plot(result.x[:, :, 0], result.x[:, :, 1], color="0.6", linewidth=0.6)
     ax.plot(result.x[0, :, 0], result.x[0, :, 1], "o", color="0.6", markersize=3,
             label="start")
-    ax.plot(result.x[-1, :, 0], result.x[-1, :, 1], "o", color="#1f77b4", markersize=4,
-            label="end")
+    end = result.x[-1]
+    away = np.any(np.abs(end) > _EDGE, axis=1)         # blown past the panel's edge
+    ax.plot(end[~away, 0], end[~away, 1], "o", color="#1f77b4", markersize=4, label="end")
+    if away.any():   # marked where they left the panel, pointing the way they went
+        edge = np.clip(end[away], -_EDGE, _EDGE)
+        ax.plot(edge[:, 0], edge[:, 1], "<" if result.wind[0] < 0 else ">", color="#1f77b4",
+                markersize=6, fillstyle="none", label=f"end off the panel ({away.sum()})")
     ax.plot(*result.center, "*", color="#d62728", markersize=14, label="attractor")
     if result.wind[0] != 0:
         half = 0.2 * result.wind[0]
@@ -258,8 +291,8 @@ def draw_swarm(result: SteeringResult, ax=None):
                     arrowprops={"arrowstyle": "->", "color": "#2ca02c", "linewidth": 2})
         ax.text(-1.6, 2.25, f"wind {result.wind[0]:g} m/s", color="#2ca02c", fontsize=9,
                 ha="center")
-    ax.set(xlim=(-2.6, 2.6), ylim=(-2.6, 2.6), xlabel="x (m)", ylabel="y (m)",
-           aspect="equal")
+    ax.set(xlim=(-_EDGE - 0.1, _EDGE + 0.1), ylim=(-_EDGE - 0.1, _EDGE + 0.1), xlabel="x (m)",
+           ylabel="y (m)", aspect="equal")
     ax.legend(loc="lower right", fontsize=8)
     return fig
 
