@@ -227,18 +227,21 @@ class TooManyLines(BaseException):
 _LIBRARIES = ("numpy", "scipy", "course_lib", "importlib")  # importlib: a first import inside
 
 
-def call_analysis(ck: Checker, what: str, budget: int, hint: Hint, func: Callable, *args
+def call_analysis(ck: Checker, what: str, budget: int, hint: Hint, func: Callable, *args,
+                  why: str = "it steps through the run instead of evaluating the result"
                   ) -> tuple[bool, object]:
-    """Like :func:`call`, for an exercise that asks for an analysis: at most ``budget`` lines
-    of Python may run in the answer's own frames (NumPy, SciPy and the library not counted).
+    """Like :func:`call`, for an exercise that asks for an analysis (or for no Python loop):
+    at most ``budget`` lines of Python may run in the answer's own frames (NumPy, SciPy and
+    the library not counted).
 
     A formula runs a handful of lines whatever the arguments; a loop over a million steps
     runs a million. Counting lines (``sys.settrace``), not seconds, gives the same verdict on
-    every machine, and stops a long loop at once. On overrun the case fails with ``hint``.
+    every machine, and stops a long loop at once. On overrun the case fails with ``hint``;
+    ``why`` says what so many lines mean for this exercise (e.g. "it loops over the
+    particles").
     """
     count = 0
-    why = (f"your function ran more than {budget} lines of Python here: it steps through the "
-           "run instead of evaluating the result")
+    why = f"your function ran more than {budget} lines of Python here: {why}"
 
     def line(frame, event, arg):
         nonlocal count
