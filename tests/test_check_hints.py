@@ -33,3 +33,29 @@ def test_a_nudge_first_then_more_and_the_grader_sees_the_nudge():
     verdict = evaluate(double, lambda x: x + 2)  # what the grader runs, in a fresh process
     assert "look at the operator" in verdict["failed_cases"][0]
     assert "correct" in _say(lambda x: 2 * x) and double.key not in FAILURES
+
+
+def test_the_line_budget_counts_only_the_students_own_lines():
+    """A budget of lines is the student's: the standard library's and installed packages'
+    frames (the grader's replay decodes a recorded answer with base64 and numpy inside the
+    answer's call) do not count, while a loop in the answer's own code does."""
+    import statistics
+
+    from course_lib.check._answers import call_analysis
+
+    data = list(range(3000))
+
+    def formula_through_the_stdlib():
+        return statistics.mean(data) * 2 + 1          # a pure-Python loop inside the stdlib
+
+    def own_loop():
+        total = 0
+        for i in range(3000):
+            total += i
+        return total
+
+    ck = Checker("budget")
+    ok, got = call_analysis(ck, "stdlib", 50, None, formula_through_the_stdlib)
+    assert ok and got == 3000 and not ck.failed
+    ok, _ = call_analysis(ck, "loop", 50, None, own_loop, why="it loops")
+    assert not ok and "more than 50 lines" in ck.failed[-1] and "it loops" in ck.failed[-1]

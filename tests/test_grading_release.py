@@ -76,7 +76,7 @@ def test_no_solution_text_anywhere_in_the_release(release, tmp_path):
     assert leaks(release, secrets) == []
     shutil.copytree(release, tmp_path / "leaky")  # the scan does fail on a leak
     shutil.copy(ROOT / "solutions" / "02_forward_euler.ipynb", tmp_path / "leaky" / "notebooks" / "x.ipynb")
-    (tmp_path / "leaky" / "hint.txt").write_text("    return r0 * (1 + dt**2) ** (n / 2)\n")
+    (tmp_path / "leaky" / "hint.txt").write_text("    return r0 * ((1 - k * dt) ** 2 + dt**2) ** (n / 2)\n")
     found = leaks(tmp_path / "leaky", secrets)
     assert any(f.startswith("hint.txt") for f in found) and any(f.startswith("notebooks/x") for f in found)
 

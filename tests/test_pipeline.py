@@ -95,3 +95,11 @@ def test_student_versions_are_stored_unrun(path):
     (no execution count, no output) is only run, never compared, so that is --nbval-lax."""
     for cell in code_cells(read(path)):
         assert cell.execution_count is None and cell.outputs == [], cell.source[:80]
+
+
+@pytest.mark.parametrize("path", SOLUTIONS, ids=lambda p: p.name)
+def test_cell_sources_end_without_whitespace(path):
+    """nbgrader's release strips trailing whitespace from every cell: a cell that ends in a
+    newline would make its release differ from our student version (test_grading_nbgrader)."""
+    for cell in read(path).cells:
+        assert cell.source == cell.source.rstrip(), f"trailing whitespace in:\n{cell.source[:200]}"

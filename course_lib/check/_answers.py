@@ -25,6 +25,7 @@ Imports NumPy and :class:`course_lib.check.Checker` only.
 from __future__ import annotations
 
 import sys
+import sysconfig
 from collections.abc import Callable
 
 import numpy as np
@@ -225,6 +226,18 @@ class TooManyLines(BaseException):
 
 #: Modules whose frames are not the student's code (their lines are not counted).
 _LIBRARIES = ("numpy", "scipy", "course_lib", "importlib")  # importlib: a first import inside
+#: Folders whose files are not the student's code either: the standard library and the
+#: installed packages. The grader's replay decodes recorded answers with ``base64`` and
+#: friends inside the answer's call; their lines must not count against the student.
+_LIBRARY_DIRS = tuple(sorted({sysconfig.get_paths()[k] for k in
+                              ("stdlib", "platstdlib", "purelib", "platlib")}))
+
+
+def _is_library(frame) -> bool:
+    module = frame.f_globals.get("__name__", "") or ""
+    filename = frame.f_code.co_filename
+    return (module.startswith(_LIBRARIES) or filename.startswith(_LIBRARY_DIRS)
+            or filename.startswith("<frozen "))
 
 
 def call_analysis(ck: Checker, what: str, budget: int, hint: Hint, func: Callable, *args,
@@ -252,8 +265,7 @@ def call_analysis(ck: Checker, what: str, budget: int, hint: Hint, func: Callabl
         return line
 
     def calls(frame, event, arg):
-        module = frame.f_globals.get("__name__", "") or ""
-        return None if module.startswith(_LIBRARIES) else line
+        return None if _is_library(frame) else line
 
     previous = sys.gettrace()
     sys.settrace(calls)
