@@ -1,10 +1,12 @@
 """Checks for notebook 08, hair as chains of masses and springs.
 
-An answer may call no course_lib function (:mod:`course_lib.check.policy`); the step-limit
-exercise asks for a computation with the stiffness matrix, so it also refuses
-``scipy.integrate`` and a search by simulation written by hand
-(:func:`~course_lib.check._answers.call_analysis`). Hints name the slip the answer
-reproduces, or what the data that broke it show.
+An answer may call no course_lib function (:mod:`course_lib.check.policy`) except the spring
+forces the hair-loop check hands it. The hair loop runs under a budget of Python lines per
+step that a loop over the particles exceeds; the step-limit exercise asks for a computation
+with the stiffness matrix, so it also refuses ``scipy.integrate`` and a search by simulation
+written by hand (:func:`~course_lib.check._answers.call_analysis`). Hints name the slip the
+answer reproduces, or what the data that broke it show. Case data of the hair loop:
+:mod:`course_lib.check._nb08_cases`.
 """
 
 from __future__ import annotations
@@ -13,8 +15,9 @@ import numpy as np
 
 from .. import hair, springs, strands
 from . import Checker, exercise
-from ._answers import as_array, call_analysis
-from .tolerance import blown_up, escalate, precision_rtol
+from ._answers import as_array, call_analysis, close
+from ._nb08_cases import loop_cases, loop_mistakes, reference
+from .tolerance import blown_up, call_whole_array, escalate, precision_rtol
 
 
 def _rows(i, j, rest) -> np.ndarray:
@@ -95,6 +98,62 @@ def strand_springs(ck: Checker, func) -> None:
                  mistakes=mistakes)
 
 
+#: Lines of Python one substep of whole-array code needs at most (a loop over 48 particles
+#: runs at least 48 more).
+LINES_PER_STEP = 40
+
+
+@exercise(allow=())
+def hair_frames(ck: Checker, func) -> None:
+    """``func(x0, spring_forces, mass, pinned, damping, head, frames, substeps, fps)``: the
+    substepped symplectic Euler loop with pinned roots and the head's projection; compared
+    with :func:`course_lib.hair.simulate`, and no particle may end inside the head."""
+    for what, x0, net, mass, pinned, damping, head, frames, substeps, fps in loop_cases():
+        expected = reference(x0, net, mass, pinned, damping, head, frames, substeps, fps)
+        budget = LINES_PER_STEP * frames * substeps + 200
+        ok, got = call_whole_array(ck, what, budget, escalate(
+            "each substep is a few operations on whole (N, 3) arrays: no loop over particles",
+            "masks such as inside = dist < R pick the particles to change"),
+            func, x0.copy(), net.forces, mass.copy(), list(pinned), damping,
+            (head[0].copy(), head[1]), frames, substeps, fps)
+        if not ok:
+            continue
+        answer = as_array(got)
+        if answer is None or answer.shape != expected.shape:
+            shape = None if answer is None else answer.shape
+            hint = None
+            if shape == (frames * substeps + 1, *expected.shape[1:]):
+                hint = "you returned every substep: keep one state per frame, every substeps-th"
+            elif shape == (frames, *expected.shape[1:]):
+                hint = "include the starting state: frames + 1 pictures, the first at t = 0"
+            ck.expect(False, what, f"expected frames of shape {expected.shape}, got "
+                      f"{shape if shape is not None else type(got).__name__}", hint)
+            continue
+        if blown_up(ck, answer, what, hint=escalate(
+                "the run explodes at a step symplectic Euler survives: check the order of the "
+                "updates and the signs", "forward Euler (moving x with the old v) explodes on "
+                "stiff springs: update v from the forces first, then x with the new v")):
+            continue
+        right = np.allclose(answer, expected, rtol=0.0, atol=1e-9)
+        mistakes = {} if right else loop_mistakes(x0, net, mass, pinned, damping, head,
+                                                  frames, substeps, fps)
+        # one row per particle and frame: a wrong answer is summarised by its worst row
+        close(ck, answer.reshape(-1, 3), expected.reshape(-1, 3), f"{what}: the frames",
+              rtol=0.0, atol=1e-9,
+              mistakes={h: w.reshape(-1, 3) for h, w in mistakes.items()})
+        center, radius = head
+        depth = radius - np.linalg.norm(answer - center, axis=-1).min()
+        ck.expect(depth <= 1e-9 * radius, f"{what}: no particle inside the head",
+                  f"a particle ends a frame {depth * 1e3:.3g} mm inside it",
+                  hint="after each substep, project every free particle inside the head back "
+                       "to its surface")
+        moved = float(np.abs(answer[:, pinned] - x0[pinned]).max())
+        ck.expect(moved <= 1e-12, f"{what}: the pinned particles stay put",
+                  f"a pinned particle moved by {moved:.3g} m",
+                  hint="the pinned particles get no velocity and no projection: they stay "
+                       "exactly where they are")
+
+
 def _step_cases():
     """(what, network, x, mass, pinned, fps): strands and a 2D cloth at rest, equal and
     unequal masses, pinned particles not only at the start of the list, and a squeezed
@@ -108,7 +167,8 @@ def _step_cases():
     xc, cloth = springs.cloth_grid(4, 4, spacing=0.05, k_struct=500.0, k_shear=50.0, k_bend=5.0)
     yield ("a 4 × 4 cloth in 2D, corners pinned as [15, 0]", cloth,
            xc[:, :2], np.full(16, 2e-3), [15, 0], 60.0)
-    yield ("the strand squeezed to 90 % (K not positive definite)", net, 0.9 * x0,
+    yield ("the strand squeezed to a third of its length (its buckling modes have negative "
+           "eigenvalues twice the size of the largest positive one)", net, x0 / 3.0,
            np.full(16, hair.MASS), [0], 30.0)
 
 
@@ -132,7 +192,10 @@ def _omega_mistakes(K, mass, pinned, dim) -> dict:
     dofs = (free[:, None] * dim + np.arange(dim)).ravel()
     rows = np.setdiff1d(np.arange(n * dim), pinned)             # pinned rows, not particles
     scale = np.repeat(1.0 / np.sqrt(mass), dim)[dofs]
-    return {
+    with np.errstate(all="ignore"):
+        assumed = [p * 3 + c for p in free for c in range(3) if p * 3 + c < n * dim]
+        biggest = np.abs(np.linalg.eigvalsh(scale[:, None] * K[np.ix_(dofs, dofs)] * scale)).max()
+    out = {
         "the pinned particles cannot move: drop their rows and columns of K first":
             _top(K, mass, np.arange(n * dim), dim),
         escalate("each particle owns d rows of K: particle p is rows p·d ... p·d + d - 1, so dropping "
@@ -148,7 +211,14 @@ def _omega_mistakes(K, mass, pinned, dim) -> dict:
             np.sqrt(max(np.linalg.eigvalsh(K[np.ix_(dofs, dofs)])[-1], 0.0)),
         "the eigenvalues of M⁻¹K are ω²: take the square root":
             float(np.linalg.eigvalsh(scale[:, None] * K[np.ix_(dofs, dofs)] * scale)[-1]),
+        escalate("the largest eigenvalue, not the largest in size: a negative eigenvalue is a "
+                 "mode that buckles (grows), not one that vibrates, and sets no step limit",
+                 "take the largest (most positive) eigenvalue of M⁻¹K"): float(np.sqrt(biggest)),
     }
+    if dim != 3:
+        out[escalate("this network is in 2D: each particle owns d = 2 rows of K, not 3",
+                     "d = K.shape[0] // len(mass)")] = _top(K, mass, np.array(assumed), dim)
+    return out
 
 
 @exercise(allow=(), forbid=("scipy.integrate",))
@@ -161,10 +231,14 @@ def step_limit(ck: Checker, func) -> None:
         dt_max, substeps = 2.0 / omega, _substeps(2.0 / omega, fps)
         ok, got = call_analysis(ck, what, 400, (
             "the exercise asks for the limit from the matrix (its eigenvalues): your function "
-            "searches for it by simulation"), func, K.copy(), mass.copy(), list(pinned), fps)
+            "searches for it step by step (a simulation or a bisection)"), func, K.copy(),
+            mass.copy(), list(pinned), fps)
         if not ok:
             if "lines of Python" in ck.failed[-1]:
                 break                   # a simulation: one case says it, the rest would repeat
+            if dim != 3 and "raised IndexError" in ck.failed[-1]:
+                ck.failed[-1] += ("\n      hint: this network is in 2D: each particle owns "
+                                  "K.shape[0] // len(mass) rows of K, not 3")
             continue
         answer = as_array(got)
         if answer is None or answer.shape != (3,):

@@ -12,6 +12,7 @@ from __future__ import annotations
 from .nb08_hair_runs import (
     HeldStrandRun,
     SaddleEscape,
+    damped_step_limit,
     held_strand,
     max_strain_vs_substeps,
     run_held_strand,
@@ -31,7 +32,8 @@ from .nb08_hair_view import (
     held_strand_explorer,
 )
 
-__all__ = ["HeldStrandPlot", "HeldStrandRun", "SaddleEscape", "animate", "draw_hairstyle",
+__all__ = ["HeldStrandPlot", "HeldStrandRun", "SaddleEscape", "animate", "damped_step_limit",
+           "draw_hairstyle",
            "draw_held_strand", "draw_saddle", "held_strand", "held_strand_explorer",
            "max_strain_vs_substeps", "run_held_strand", "saddle_escape", "stiffest_edge",
            "tip_sag", "twist_energy", "twist_release", "twist_shapes"]

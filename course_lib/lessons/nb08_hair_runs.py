@@ -53,9 +53,18 @@ def _held_equilibrium(k_bend: float, zigzag: float) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=256)
-def _held_limit(k_bend: float, zigzag: float) -> float:
+def _held_omega(k_bend: float, zigzag: float) -> float:
     x0, net = held_strand(k_bend, zigzag)
-    return 2.0 / max_frequency(net, x0, MASS, (0, 1))
+    return max_frequency(net, x0, MASS, (0, 1))
+
+
+def damped_step_limit(omega_max: float, damping: float, mass: float = MASS) -> float:
+    """Symplectic Euler's largest stable step (s) for the fastest mode ``omega_max`` (rad/s)
+    with viscous damping ``-c v`` on every particle of mass ``mass``: notebook 07's
+    ``ω² dt² + 2 (c/m) dt < 4``, so ``dt < 4 / (γ + √(γ² + 4 ω²))``, ``γ = c/m``. With equal
+    masses the damping acts on every mode alike, and the fastest mode sets the limit."""
+    gamma = damping / mass
+    return float(4.0 / (gamma + np.sqrt(gamma**2 + 4.0 * omega_max**2)))
 
 
 def tip_sag(k_bend: float = 0.0, zigzag: float = 0.0) -> float:
@@ -119,7 +128,7 @@ class HeldStrandRun:
     equilibrium: np.ndarray   #: the in-plane equilibrium it should settle to (m)
     stable: bool
     message: str
-    dt_limit: float           #: 2 / ω_max of the strand at rest (s)
+    dt_limit: float           #: the step limit with this damping (s), from ω_max at rest
     params: dict              #: the arguments, the step times "t" and "t_shown"
     last_finite: np.ndarray | None = None   #: last finite state of a blown-up run
     last_step: int = 0        #: index of the last finite step
@@ -134,7 +143,8 @@ def run_held_strand(k_bend: float = 2000.0, damping: float = 2e-3, dt: float = 1
     2D strand.
 
     Returns the strand at ``n_frames`` times, the tip height at every step, the in-plane
-    equilibrium it should settle to, the verdict, and the step limit ``2 / ω_max``. With
+    equilibrium it should settle to, the verdict, and the step limit with this damping
+    (:func:`damped_step_limit`; ``2 / ω_max`` without damping). With
     ``max_steps`` the run stops after that many steps (``t_end`` shortened to
     ``max_steps · dt``, said in ``params["t_shown"]``): the widget's cap. Pure and cached
     where it can be (the equilibrium and the limit depend on ``k_bend`` only).
@@ -152,8 +162,13 @@ def run_held_strand(k_bend: float = 2000.0, damping: float = 2e-3, dt: float = 1
     pick = np.linspace(0, n, n_frames).round().astype(int)
     stable = message == "ok"
     growth = None if stable else np.abs(x[: last + 1] - x0).max(axis=(1, 2))
+    if not stable:   # say what passed the bound: a position (m) or a speed (m/s)
+        step = int(message.split("step ")[1].split(",")[0])
+        what = ("a coordinate past 100 m" if np.isfinite(x[step]).all()
+                and np.abs(x[step]).max() > 100.0 else "a speed past 100 m/s")
+        message = f"unstable at step {step}, t = {step * dt * 1e3:.3g} ms ({what})"
     return HeldStrandRun(t[pick], x[pick], x[:, -1, 1], equilibrium, stable, message,
-                         _held_limit(float(k_bend), float(zigzag)),
+                         damped_step_limit(_held_omega(float(k_bend), float(zigzag)), damping),
                          {"k_bend": k_bend, "damping": damping, "dt": dt, "t": t,
                           "t_end": t_end, "t_shown": float(t[-1]), "steps": n},
                          None if stable else x[last], last, growth)

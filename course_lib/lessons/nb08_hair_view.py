@@ -114,7 +114,8 @@ class HeldStrandPlot:
         if not run.stable:
             span = f"stopped after step {last} of {p['steps']}"
 
-        self.subtitle.set_text(f"stable for dt < 2/ω_max = {1e3 * run.dt_limit:.3g} ms; {span}")
+        self.subtitle.set_text(f"stable for dt < {1e3 * run.dt_limit:.3g} ms (ω_max² dt² + 2 (c/m) dt"
+                               f" < 4, notebook 07); {span}")
         return self.fig
 
 
