@@ -15,7 +15,7 @@ screenshot in ``build/browser-screenshots/``.
 from __future__ import annotations
 
 import contextlib
-import fcntl
+import importlib.util
 import os
 import re
 import shutil
@@ -71,24 +71,10 @@ def pytest_runtest_makereport(item, call):
 
 def _chromium_missing() -> str | None:
     """None when Chromium is there (installing it with apt-get if we may), else why not."""
-    if CHROMIUM.exists():
-        return None
-    how = "install Debian's Chromium (`sudo apt-get install -y chromium`) and run `make test-browser`"
-    if os.geteuid() != 0 or shutil.which("apt-get") is None:
-        return f"browser tests skipped: /usr/bin/chromium is missing; {how}"
-    env = {**os.environ, "DEBIAN_FRONTEND": "noninteractive"}
-    lock = ROOT / "build" / "chromium-install.lock"
-    lock.parent.mkdir(exist_ok=True)
-    with lock.open("w") as held:   # one install at a time (pytest-xdist runs two workers)
-        fcntl.flock(held, fcntl.LOCK_EX)
-        if CHROMIUM.exists():
-            return None
-        subprocess.run(["apt-get", "update", "-qq"], env=env, capture_output=True)
-        done = subprocess.run(["apt-get", "install", "-y", "-qq", "chromium"], env=env,
-                              capture_output=True, text=True)
-    if done.returncode != 0 or not CHROMIUM.exists():
-        return f"browser tests skipped: `apt-get install chromium` failed ({done.stderr[-300:]}); {how}"
-    return None
+    spec = importlib.util.spec_from_file_location("kit_chromium", ROOT / "tools" / "chromium.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.ensure()
 
 
 @pytest.fixture(scope="session")
