@@ -26,3 +26,20 @@ def check_module(nb) -> str | None:
         if m:
             return m.group(1)
     return None
+
+
+def printed_holds(value: float, fmt: str, text: str, spread: float) -> None:
+    """Assert that ``format(value, fmt) == text`` and that it prints ``text`` on any machine.
+
+    ``spread`` (same units as ``value``) bounds how far another rounding (another SIMD
+    kernel, another BLAS, another CPU) can move ``value``: an error estimate of the kind
+    "n steps × eps × scale" for a smooth computation, or a few iterations out of a total for
+    an iteration count. The value must lie farther than ``spread`` from every edge at which
+    its printed digits would change; otherwise the notebook must print fewer digits.
+    """
+    assert format(value, fmt) == text, f"prints {format(value, fmt)!r}, the notebook says {text!r}"
+    for sign in (-1.0, 1.0):
+        moved = value + sign * spread
+        assert format(moved, fmt) == text, (
+            f"{value!r} prints {text!r} here, but another rounding within ±{spread:g} "
+            f"would print {format(moved, fmt)!r}: print fewer digits")
