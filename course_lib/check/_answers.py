@@ -154,7 +154,10 @@ def close(ck: Checker, got, expected, what: str, *, hint: Hint = None,
 
 
 def _fmt(x) -> str:
-    return np.array2string(np.asarray(x), precision=6, suppress_small=True, separator=", ")
+    x = np.asarray(x)
+    if np.issubdtype(x.dtype, np.inexact):
+        x = x + 0.0  # -0.0 prints as "-0."; + 0.0 makes it 0.0
+    return np.array2string(x, precision=6, suppress_small=True, separator=", ")
 
 
 def differ(answer, expected, rtol: float) -> str:

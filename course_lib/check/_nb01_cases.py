@@ -1,11 +1,13 @@
-"""Case data of notebook 01's particle-frame and cohesion checks (:mod:`course_lib.check.nb01`).
+"""Case data of notebook 01's checks (:mod:`course_lib.check.nb01`): fields, frames, flocks.
 
 :func:`particle_cases` holds the frames the check runs (one made by hand, one whose expired
 particles are not the first rows, so that deleting from the front of a queue fails), and
 :func:`frame_mistakes` what the usual mistakes make of one frame, each keyed by its hint.
 :func:`cohesion_cases` holds the flocks of the cohesion check (one with a pair exactly
-``radius`` apart, so that ``<=`` fails) and :func:`cohesion_within` the rule for a given
-neighbour mask (to recognise a mask built with ``<=``).
+``radius`` apart, so that ``<=`` fails), :func:`cohesion_reference` the rule,
+:func:`cohesion_mistakes` what the usual mistakes make of it, and :func:`cohesion_within`
+the rule for a given neighbour mask (to recognise a mask built with ``<=``).
+:func:`field_points` holds the positions the field checks try.
 Imports NumPy only.
 """
 
@@ -14,6 +16,19 @@ from __future__ import annotations
 import numpy as np
 
 _RNG_SEED = 2026
+
+
+def field_points() -> list[tuple[str, np.ndarray]]:
+    """Positions to test a field on: single points (2,), a cloud (N, 2), a grid (n, n, 2)."""
+    rng = np.random.default_rng(_RNG_SEED)
+    g = np.stack(np.meshgrid(np.linspace(-2.0, 2.0, 2), np.linspace(-2.0, 2.0, 2)), axis=-1)
+    return [
+        ("X = (1, 0)", np.array([1.0, 0.0])),
+        ("X = (0, 1)", np.array([0.0, 1.0])),
+        ("X = (3, -2)", np.array([3.0, -2.0])),
+        ("3 particles, X of shape (3, 2)", rng.uniform(-2.0, 2.0, size=(3, 2))),
+        ("a 2 x 2 grid, X of shape (2, 2, 2)", g),
+    ]
 
 
 def particle_cases() -> list:
@@ -97,3 +112,38 @@ def cohesion_within(X, D, within) -> np.ndarray:
     """The rule with neighbours ``within`` (a boolean (N, N) mask; the boid itself left out)."""
     others = within & ~np.eye(len(X), dtype=bool)
     return np.einsum("ij,ijk->ik", others, D) / np.maximum(others.sum(axis=1, keepdims=True), 1)
+
+
+def cohesion_reference(X, radius: float) -> np.ndarray:
+    """For each boid, the mean position of the *other* boids closer than ``radius`` minus
+    its own position (m), shape ``(N, 2)``; zero for a boid with no neighbour."""
+    X = np.asarray(X, dtype=float)
+    D = X[None, :, :] - X[:, None, :]                  # D[i, j] = X_j - X_i
+    near = np.einsum("ijk,ijk->ij", D, D) < radius**2
+    np.fill_diagonal(near, False)
+    count = near.sum(axis=1, keepdims=True)
+    return np.einsum("ij,ijk->ik", near, D) / np.maximum(count, 1)
+
+
+def cohesion_mistakes(X, radius: float, expected) -> dict:
+    """What the usual mistakes make of the cohesion rule on the flock ``X``, keyed by hint."""
+    D = X[None, :, :] - X[:, None, :]
+    dist2 = np.einsum("ijk,ijk->ij", D, D)
+    within = dist2 < radius**2                          # includes the boid itself
+    others = within & ~np.eye(len(X), dtype=bool)
+    count = others.sum(axis=1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return {
+            "a boid is not its own neighbour: leave it out of the mean (it pulls the mean "
+            "towards itself)": np.einsum("ij,ijk->ik", within, D) / within.sum(1, keepdims=True),
+            "return the vector FROM the boid TO the local centre (centre - X_i), not the "
+            "centre itself": np.where(count > 0, expected + X, 0.0),
+            "your pull points away from the neighbours: return centre - X_i, not X_i - centre":
+                -expected,
+            ("a boid exactly `radius` away is not a neighbour: the rule is |X_j - X_i| < "
+             "radius, strictly"): cohesion_within(X, D, dist2 <= radius**2),
+            "average over the neighbours only: divide by their number, not by N":
+                np.einsum("ij,ijk->ik", others, D) / len(X),
+            ("the centre is the mean of the NEIGHBOURS within the radius, not of the whole "
+             "flock"): X.mean(axis=0) - X,
+        }

@@ -19,7 +19,13 @@ from . import Checker, Hint, exercise
 from ._answers import as_array, call, call_analysis, rtol_for
 from ._answers import close as _close
 from ._answers import mistake_hint as _mistake_hint
-from ._nb01_cases import COHESION_LINE_BUDGET, cohesion_cases, cohesion_within
+from ._nb01_cases import (
+    COHESION_LINE_BUDGET,
+    cohesion_cases,
+    cohesion_mistakes,
+    cohesion_reference,
+    field_points,
+)
 from ._nb01_cases import frame_mistakes as _frame_mistakes
 from ._nb01_cases import particle_cases as _particle_cases
 
@@ -43,30 +49,39 @@ def _index_hint(exc: Exception) -> str | None:
     return None
 
 
-def _points() -> list[tuple[str, np.ndarray]]:
-    """Positions to test a field on: single points (2,), a cloud (N, 2), a grid (n, n, 2)."""
-    rng = np.random.default_rng(_RNG_SEED)
-    g = np.stack(fields.grid(extent=2.0, n=2), axis=-1)
-    return [
-        ("X = (1, 0)", np.array([1.0, 0.0])),
-        ("X = (0, 1)", np.array([0.0, 1.0])),
-        ("X = (3, -2)", np.array([3.0, -2.0])),
-        ("3 particles, X of shape (3, 2)", rng.uniform(-2.0, 2.0, size=(3, 2))),
-        ("a 2 x 2 grid, X of shape (2, 2, 2)", g),
-    ]
+def _all_mistakes(reference, mistakes_of, X) -> dict:
+    """The usual mistakes at positions ``X``: the exercise's own, and the shape slips."""
+    expected, mistakes = reference(0.0, X.copy()), mistakes_of(X.copy())
+    if X.ndim > 1:
+        mistakes[_ROWS_HINT] = reference(0.0, X[:2].T.copy()).T
+    mistakes[("the two components go on the LAST axis of the result, as in X",
+              "the two components go on the LAST axis of the result, as in X: "
+              "np.stack((vx, vy), axis=-1), not np.array([vx, vy])")] = np.moveaxis(expected, -1, 0)
+    return mistakes
+
+
+def _diagnosis(answer, reference, mistakes_of) -> Hint:
+    """The mistake the answer makes at three generic positions (no coordinate zero), or None.
+
+    At a special point two mistakes can give the same value (a pull on x alone and no pull
+    at all agree at X = (0, 1)); at generic points they do not, so the mistake found there
+    names a failure anywhere."""
+    X = field_points()[3][1]
+    try:
+        got = answer(0.0, X.copy())
+    except NotImplementedError:
+        raise
+    except Exception:  # the cases themselves report it
+        return None
+    return _mistake_hint(got, _all_mistakes(reference, mistakes_of, X))
 
 
 def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=None,
                  time_check: bool = True, formula: Hint = None) -> None:
     untouched = True
-    for what, X in (_points() if points is None else points):
-        expected, mistakes = reference(0.0, X.copy()), mistakes_of(X.copy())
-        if X.ndim > 1:
-            mistakes[_ROWS_HINT] = reference(0.0, X[:2].T.copy()).T
-        mistakes[("the two components go on the LAST axis of the result, as in X",
-                  "the two components go on the LAST axis of the result, as in X: "
-                  "np.stack((vx, vy), axis=-1), not np.array([vx, vy])")] = np.moveaxis(
-            expected, -1, 0)
+    diagnosis = _diagnosis(answer, reference, mistakes_of)
+    for what, X in (field_points() if points is None else points):
+        expected, mistakes = reference(0.0, X.copy()), _all_mistakes(reference, mistakes_of, X)
         X_student = X.copy()
         ok, got = call(ck, f"{name} at {what}", answer, 0.0, X_student,
                        error_hint=_index_hint if X.ndim == 1 else None)
@@ -74,7 +89,7 @@ def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=
         if not ok:
             continue
         shape_ok = np.shape(got) == X.shape
-        hint = _mistake_hint(got, mistakes, formula if shape_ok else _SHAPE_HINT)
+        hint = diagnosis or _mistake_hint(got, mistakes, formula if shape_ok else _SHAPE_HINT)
         _close(ck, got, expected, f"{name} at {what}", hint=hint)
     ck.expect(untouched, f"{name} leaves X unchanged",
               "your function modified the positions it was given",
@@ -90,7 +105,7 @@ def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=
                 a0, expected_0, rtol=rtol_for(a0, 1e-9))
             _close(ck, got, expected_t, f"{name} at t = 2.7 s (time-independent)",
                    hint="this field does not depend on t; do not use t in the formula"
-                   if right_at_0 else formula)
+                   if right_at_0 else diagnosis or formula)
 
 
 @exercise(allow=())
@@ -125,7 +140,7 @@ def whirlpool(ck: Checker, whirlpool) -> None:
 
     The prompt hands over the vortex and the radial field; ``compose`` and ``scaled`` would
     build the answer, so they count as the reference."""
-    for k, points in ((0.5, None), (2.0, _points()[3:4])):
+    for k, points in ((0.5, None), (2.0, field_points()[3:4])):
 
         def reference(t, X, k=k):
             return whirlpool_reference(t, X, k)
@@ -140,6 +155,10 @@ def whirlpool(ck: Checker, whirlpool) -> None:
                 "the vortex part (-y, x) is missing: a whirlpool turns while it pulls in":
                     -k * np.asarray(X, dtype=float),
                 "the inward pull -k (x, y) is missing": fields.vortex(0.0, X),
+                ("your pull acts on x only: the pull -k (x, y) has a y-component too, -k y"):
+                    fields.vortex(0.0, X) - k * np.asarray(X, dtype=float) * [1.0, 0.0],
+                ("your pull acts on y only: the pull -k (x, y) has an x-component too, -k x"):
+                    fields.vortex(0.0, X) - k * np.asarray(X, dtype=float) * [0.0, 1.0],
             }
             if k != 0.5:
                 out[f"use the argument k: this case calls whirlpool(t, X, k={k:g}), but your "
@@ -249,64 +268,52 @@ def _one_frame(ck: Checker, particle_frame, what, particles, V, dt, newborn) -> 
 # --- flocking: the cohesion rule ---------------------------------------------------------
 
 
-def cohesion_reference(X, radius: float) -> np.ndarray:
-    """For each boid, the mean position of the *other* boids closer than ``radius`` minus
-    its own position (m), shape ``(N, 2)``; zero for a boid with no neighbour."""
-    X = np.asarray(X, dtype=float)
-    D = X[None, :, :] - X[:, None, :]                  # D[i, j] = X_j - X_i
-    near = np.einsum("ijk,ijk->ij", D, D) < radius**2
-    np.fill_diagonal(near, False)
-    count = near.sum(axis=1, keepdims=True)
-    return np.einsum("ij,ijk->ik", near, D) / np.maximum(count, 1)
-
-
 @exercise(allow=())
 def cohesion(ck: Checker, cohesion) -> None:
-    """``cohesion(X, radius)``: vector to the local centre of the neighbours, vectorised."""
+    """``cohesion(X, radius)``: vector to the local centre of the neighbours, vectorised.
+
+    A mistake is named only if every flock the answer gets wrong shows it: on a flock whose
+    boids have one neighbour each, counting the boid itself halves the offset, as any halving
+    does, so that flock alone cannot tell the two apart."""
+    runs = []
     for what, X, radius in cohesion_cases():
         expected = cohesion_reference(X, radius)
-        D = X[None, :, :] - X[:, None, :]
-        dist2 = np.einsum("ijk,ijk->ij", D, D)
-        within = dist2 < radius**2                          # includes the boid itself
-        others = within & ~np.eye(len(X), dtype=bool)
-        count = others.sum(axis=1, keepdims=True)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            mistakes = {
-                "a boid is not its own neighbour: leave it out of the mean (it pulls the mean "
-                "towards itself)": np.einsum("ij,ijk->ik", within, D) / within.sum(1, keepdims=True),
-                "return the vector FROM the boid TO the local centre (centre - X_i), not the "
-                "centre itself": np.where(count > 0, expected + X, 0.0),
-                "your pull points away from the neighbours: return centre - X_i, not X_i - centre":
-                    -expected,
-                ("a boid exactly `radius` away is not a neighbour: the rule is |X_j - X_i| < "
-                 "radius, strictly"): cohesion_within(X, D, dist2 <= radius**2),
-                "average over the neighbours only: divide by their number, not by N":
-                    np.einsum("ij,ijk->ik", others, D) / len(X),
-                ("the centre is the mean of the NEIGHBOURS within the radius, not of the whole "
-                 "flock"): X.mean(axis=0) - X,
-            }
         X_student = X.copy()
         ok, got = call_analysis(ck, what, COHESION_LINE_BUDGET, (
             "write it without a Python loop over the boids: the offsets of every pair by "
             "broadcasting, a boolean mask of neighbours, and masked means",), cohesion,
-            X_student, radius)
+            X_student, radius, why=(
+                "a vectorised answer runs a handful of lines whatever the size of the flock, so "
+                "yours loops in Python (over the boids, or their pairs)"))
         if not ok and ck.failed and "lines of Python" in ck.failed[-1]:
             break  # one such verdict says it all
-        if not ok:
-            continue
+        if ok:
+            runs.append((what, X, radius, X_student, expected, got))
+    wrong = [(got, cohesion_mistakes(X, radius, expected))
+             for _, X, radius, _, expected, got in runs if not _right_or_nan(got, expected)]
+    named = next((h for h in (wrong[0][1] if wrong else ()) if all(
+        _mistake_hint(got, {h: m[h]}) for got, m in wrong)), None)
+    for what, X, _, X_student, expected, got in runs:
         answer = as_array(got)
         if answer is not None and answer.shape == expected.shape and np.isnan(answer).any():
             ck.expect(False, what, "your answer contains NaN",
                       "a boid with no neighbour has no pull: return 0 for it (your mean divided "
                       "0 by 0)")
             continue
-        hint = _mistake_hint(got, mistakes, (
+        # Offsets between positions of up to 10 m: 10 µm is far below anything a flock
+        # shows, and admits an answer computed in float32 anywhere along the way.
+        _close(ck, got, expected, what, rtol=1e-6, atol=1e-5, hint=named or (
             "for each boid: the mean offset to its neighbours, and 0 without one",
             "for each boid i: the mean of X_j - X_i over the other boids j with "
             "|X_j - X_i| < radius, and 0 if there is none"))
-        # Offsets between positions of up to 10 m: 10 µm is far below anything a flock
-        # shows, and admits an answer computed in float32 anywhere along the way.
-        _close(ck, got, expected, what, hint=hint, rtol=1e-6, atol=1e-5)
         ck.expect(np.array_equal(X_student, X), f"cohesion leaves X unchanged ({what})",
                   "your function modified the positions it was given",
                   "compute new arrays; do not assign into X")
+
+
+def _right_or_nan(got, expected) -> bool:
+    """Whether a cohesion answer matches ``expected`` at the check's tolerance, or holds NaN
+    (which is told so on its own, and names no other mistake)."""
+    answer = as_array(got)
+    return answer is not None and answer.shape == np.shape(expected) and bool(
+        np.allclose(answer, expected, rtol=1e-6, atol=1e-5) or np.isnan(answer).any())

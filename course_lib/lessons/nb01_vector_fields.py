@@ -132,15 +132,17 @@ def run_flock(n: int = 80, steps: int = 600, dt: float = 0.05, box: float = 10.0
 
 
 def flock_ensemble(seeds, weights=WEIGHTS, n: int = 80, steps: int = 600, dt: float = 0.05,
-                   average_from: float = 15.0) -> np.ndarray:
+                   average_from: float = 15.0, nudge: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Polarisation of one flock per seed, averaged over ``t >= average_from`` (s).
 
     Returns ``(curves, late)``: ``curves`` of shape ``(len(seeds), steps + 1)``, the
     polarisation against time of each run, and ``late`` of shape ``(len(seeds),)``, each
     run's time average over the last part. A single chaotic run is no measurement; the
-    spread of ``late`` over seeds says how much one run can vary.
+    spread of ``late`` over seeds says how much one run can vary. ``nudge`` (m) moves the
+    first boid of every start (see :func:`run_flock`): the ensemble another machine's
+    rounding might give.
     """
-    curves = np.array([run_flock(n, steps, dt, weights=weights, seed=s).polarisation
+    curves = np.array([run_flock(n, steps, dt, weights=weights, seed=s, nudge=nudge).polarisation
                        for s in seeds])
     late = curves[:, round(average_from / dt):].mean(axis=1)
     return curves, late
