@@ -344,7 +344,8 @@ def test_drift_dt_hidden_tolerance():
     assert f"tol = {tol:g}" not in hidden                 # other answers draw another tol
     drawn = float(hidden.split("tol = ")[1].split(" ")[0])
     assert f"{check.largest_drift_dt(drawn):.8g}" not in hidden and "expected" not in hidden
-    assert "within the budget, but it is not the largest" in hidden
+    assert "within the budget of" in hidden and "but a larger step would be too" in hidden
+    assert "that is of" not in hidden and "step that is\n" not in hidden
     assert f"{best:.8g}" not in "\n".join(result["failed_cases"])
 
 
@@ -527,6 +528,14 @@ PLANTED = [
      "        X = X + dt * (np.array([-X[1], X[0]]) - k * X)\n"
      "    return float(np.linalg.norm(X))",
      "incorrect", "the exercise asks for the analysis, one formula for any n"),
+    ("radius_after", "delegating: the step matrix to the n-th power, all n steps in one call",
+     "def radius_after(r0, dt, n, k):\n"
+     "    M = np.array([[1.0 - k * dt, -dt], [dt, 1.0 - k * dt]])\n"
+     "    return float(np.linalg.norm(np.linalg.matrix_power(M, n) @ [r0, 0.0]))",
+     "incorrect", "uses the reference: your function calls numpy.linalg.matrix_power"),
+    ("radius_after", "the analysis through complex numbers, |R(z)|^n",
+     "def radius_after(r0, dt, n, k):\n    return r0 * abs(complex(1 - k * dt, dt)) ** n",
+     "correct", ""),
     ("radius_after", "shortcut: the vortex's formula (the cases with a pull break it)",
      "def radius_after(r0, dt, n, k):\n    return r0 * (1 + dt**2) ** (n / 2)",
      "incorrect", "your answer ignores the pull k"),
@@ -541,6 +550,16 @@ PLANTED = [
      "def drift_dt(tol):\n"
      "    return {0.01: 0.0031673046, 0.1: 0.030352145, 0.037: 0.011565586}.get(tol, 0.01)",
      "incorrect", "(a tolerance the check draws): your dt = 0.01 s lets the radius grow by"),
+    ("drift_dt", "shortcut: a scan over a grid of steps (no root finder to blame)",
+     "def drift_dt(tol):\n    grid = np.linspace(1e-4, 0.1, 200001)\n"
+     "    ok = (np.pi / grid) * np.log1p(grid**2) <= np.log1p(tol)\n    return float(grid[ok][-1])",
+     "incorrect", "not within 1e-6 relative: whatever finds it (a scan over steps, a bisection "
+     "of your own) stops too far from the root"),
+    ("drift_dt", "misconception: brentq asked for an absolute xtol of 1e-6",
+     "def drift_dt(tol):\n"
+     "    return brentq(lambda dt: (math.pi / dt) * math.log1p(dt * dt) - math.log1p(tol),"
+     " 1e-9, 1.0, xtol=1e-6)",
+     "incorrect", "brentq's xtol is an absolute tolerance"),
     ("drift_dt", "misconception: (1 + dt²) per step",
      "def drift_dt(tol):\n"
      "    return brentq(lambda dt: (2 * math.pi / dt) * math.log1p(dt * dt) - math.log1p(tol),"
@@ -562,6 +581,21 @@ PLANTED = [
      + "    return float(np.log(np.linalg.norm(ends[0] - ends[1]) "
      "/ np.linalg.norm(ends[1] - ends[2])))",
      "incorrect", "not the natural log"),
+    ("observed_order", "misconception: the differences summed with their signs",
+     "def observed_order(step, f, y0, T, n):\n" + _LOOP.format(t="k * dt")
+     + "    return float(np.log2(abs(np.sum(ends[0] - ends[1])) / abs(np.sum(ends[1] - ends[2]))))",
+     "incorrect", "summing the components with their signs lets them cancel"),
+    ("observed_order", "misconception: each run one step short of T",
+     "def observed_order(step, f, y0, T, n):\n"
+     + _LOOP.replace("range(m)", "range(m - 1)").format(t="k * dt")
+     + "    return float(np.log2(np.linalg.norm(ends[0] - ends[1]) "
+     "/ np.linalg.norm(ends[1] - ends[2])))",
+     "incorrect", "your runs stop one step short of T"),
+    ("observed_order", "misconception: the finest run taken as exact",
+     "def observed_order(step, f, y0, T, n):\n" + _LOOP.format(t="k * dt")
+     + "    return float(np.log2(np.linalg.norm(ends[0] - ends[2]) "
+     "/ np.linalg.norm(ends[1] - ends[2])))",
+     "incorrect", "the finest run is not the exact answer"),
     ("observed_order", "the loop written right",
      "def observed_order(step, f, y0, T, n):\n" + _LOOP.format(t="k * dt")
      + "    return float(np.log2(np.linalg.norm(ends[0] - ends[1]) "
@@ -593,9 +627,8 @@ def test_the_analysis_budget_is_lines_not_seconds():
     """A formula runs a few lines for a million steps; a loop is stopped at the budget (at
     once, whatever the machine), and the line count ignores NumPy's own Python code."""
     formula = planted("def radius_after(r0, dt, n, k):\n"
-                      "    return float(np.linalg.norm(np.linalg.matrix_power(\n"
-                      "        np.array([[1.0 - k * dt, -dt], [dt, 1.0 - k * dt]]), n) @ [r0, 0.0]))",
-                      "radius_after")
+                      "    mu = np.linalg.eigvals(np.array([[1.0 - k * dt, -dt], [dt, 1.0 - k * dt]]))\n"
+                      "    return float(r0 * np.abs(mu[0]) ** n)", "radius_after")
     assert evaluate(check.radius_after, formula)["status"] == "correct"
     caught = planted("def radius_after(r0, dt, n, k):\n    r = r0\n    for _ in range(n):\n"
                      "        try:\n            r *= math.sqrt((1 - k * dt) ** 2 + dt * dt)\n"
@@ -718,3 +751,70 @@ def test_the_spiral_explorer_takes_its_sliders_ends():
         assert lesson.spiral_experiment(end) is not None
     with pytest.raises(ValueError, match="dt"):
         lesson.spiral_experiment(hi * 2)
+
+
+def test_a_near_miss_blames_brentq_only_if_the_answer_calls_it():
+    """"brentq's xtol" is named for an answer whose code calls brentq; a scan over steps or a
+    bisection of one's own is told that whatever finds the step stops too far from the root,
+    and an answer whose code cannot be read (the grader's replay) gets that neutral hint."""
+    scan = planted("def drift_dt(tol):\n    grid = np.linspace(1e-4, 0.1, 200001)\n"
+                   "    ok = (np.pi / grid) * np.log1p(grid**2) <= np.log1p(tol)\n"
+                   "    return float(grid[ok][-1])", "drift_dt")
+    bisect = planted("def drift_dt(tol):\n    lo, hi = 1e-9, 1.0\n    while hi - lo > 1e-7:\n"
+                     "        mid = (lo + hi) / 2\n"
+                     "        if (np.pi / mid) * np.log1p(mid**2) <= np.log1p(tol):\n"
+                     "            lo = mid\n        else:\n            hi = mid\n    return lo",
+                     "drift_dt")
+
+    class Replay:  # stands in for the answer in the grader: no code to read
+        def __call__(self, tol):
+            return scan(tol)
+
+    for answer in (scan, bisect, Replay()):
+        text = "\n".join(evaluate(check.drift_dt, answer)["failed_cases"])
+        assert "xtol" not in text and "root finder converged" not in text
+        assert "stops too far from the root" in text
+
+
+def _implicit_midpoint(f, t, y, dt):
+    """Y = y + dt f(t + dt/2, (y + Y)/2) by fixed-point iteration (a contraction here)."""
+    Y = y.copy()
+    for _ in range(200):
+        Y = y + dt * f(t + dt / 2, (y + Y) / 2)
+    return Y
+
+
+def test_which_implicit_step_keeps_the_radius():
+    """Section 3: the trapezoid keeps |X| on the vortex and on any constant linear field that
+    keeps |X| (here a faster vortex, V = 3 (-y, x)), but not on a
+    vortex whose rate changes in time, nor on the nonlinear swirl; the implicit midpoint rule
+    keeps |X| on all of them (each field's velocity is perpendicular to X)."""
+    from course_lib.check.nb04 import pulsing_vortex, swirl
+
+    constant = [cl.fields.vortex, lambda t, X: 3.0 * cl.fields.vortex(t, X)]
+    changing = [pulsing_vortex, swirl]
+    X0, T, n = np.array([0.8, -0.6]), 2 * np.pi, 32
+    for f in constant + changing:
+        X, grows = X0.copy(), []
+        for k in range(n):
+            X = _implicit_midpoint(f, k * T / n, X, T / n)
+            grows.append(abs(np.linalg.norm(X) - 1.0))
+        assert max(grows) < 1e-12
+        for k in range(3):  # the field is perpendicular to X at every point and time
+            assert abs(np.dot(f(0.7 * k, X0), X0)) < 1e-15
+    for f in constant:
+        run = cl.integrate(f, X0, (0.0, T), T / n, "trapezoidal")
+        assert np.max(np.abs(np.linalg.norm(run.y, axis=1) - 1.0)) < 1e-12
+    for f in changing:  # the trapezoid drifts by about 1 % in one turn: far above round-off
+        run = cl.integrate(f, X0, (0.0, T), T / n, "trapezoidal")
+        assert np.max(np.abs(np.linalg.norm(run.y, axis=1) - 1.0)) > 1e-3
+    # and the notebook says so: the trapezoid's claim is scoped to constant coefficients
+    from pathlib import Path
+
+    import nbformat
+    nb = nbformat.read(Path(__file__).resolve().parents[1] / "solutions" / "02_forward_euler.ipynb",
+                       as_version=4)
+    text = " ".join(" ".join(c.source.split()) for c in nb.cells if c.cell_type == "markdown")
+    assert "on *linear* fields such as the vortex" not in text
+    assert "any linear field with constant coefficients, $V = AX$ with a fixed matrix $A$" in text
+    assert "quadratic invariants such as $|X|^2$ on any field" not in text

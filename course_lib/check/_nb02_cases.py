@@ -56,23 +56,27 @@ ORDER_CASES = [
 
 
 def order_reference(step, f, y0, T: float, n: int, *, clock=None, same_dt: bool = False,
-                    same_n: bool = False, norm=np.linalg.norm) -> float:
+                    same_n: bool = False, norm=np.linalg.norm, extra: int = 0,
+                    finest: bool = False) -> float:
     """``log2(|X_n - X_2n| / |X_2n - X_4n|)`` from runs of ``n``, ``2n``, ``4n`` steps.
 
     ``clock(k, dt)`` gives the time passed to the k-th step (default ``k dt``); ``same_dt``
     runs all three with ``dt = T/n`` (to ``T``, ``2T``, ``4T``); ``same_n`` runs ``n`` steps
-    of each size (to ``T``, ``T/2``, ``T/4``); ``norm`` measures the differences. All exist to
-    recognise mistakes: a clock frozen at 0 or a step ahead, runs that do not end at ``T``, a
-    difference measured on one component.
+    of each size (to ``T``, ``T/2``, ``T/4``); ``norm`` measures the differences; ``extra``
+    adds steps to each run (-1: one short); ``finest`` compares the coarse run with the
+    finest, ``|X_n - X_4n|``, as if it were exact. All exist to recognise mistakes: a clock
+    frozen at 0 or a step ahead, runs that do not end at ``T``, a difference measured on one
+    component or summed with its signs, the finest run taken for the exact answer.
     """
     ends = []
     for m in (n, 2 * n, 4 * n):
         y, dt = np.array(y0, dtype=float), T / (n if same_dt else m)
-        for k in range(n if same_n else m):
+        for k in range((n if same_n else m) + extra):
             y = step(f, k * dt if clock is None else clock(k, dt), y, dt)
         ends.append(y)
+    coarse = ends[0] - (ends[2] if finest else ends[1])
     with np.errstate(all="ignore"):
-        return float(np.log2(norm(ends[0] - ends[1]) / norm(ends[1] - ends[2])))
+        return float(np.log2(norm(coarse) / norm(ends[1] - ends[2])))
 
 
 def order_mistakes(step, f, y0, T, n, expected) -> dict:
@@ -91,6 +95,17 @@ def order_mistakes(step, f, y0, T, n, expected) -> dict:
         ("measure the distances with the Euclidean norm |X| of Section 5 (np.linalg.norm), "
          "not the largest component"):
             order_reference(step, f, y0, T, n, norm=lambda d: np.max(np.abs(d))),
+        ("a distance is a norm, |X_n - X_2n| (np.linalg.norm): summing the components with "
+         "their signs lets them cancel"):
+            order_reference(step, f, y0, T, n, norm=lambda d: abs(np.sum(d))),
+        ("your runs stop one step short of T: a run of m steps takes all m (range(m)), "
+         "so that the three runs end at the same time"):
+            order_reference(step, f, y0, T, n, extra=-1),
+        ("your runs take one step too many and end past T: a run of m steps is range(m)"):
+            order_reference(step, f, y0, T, n, extra=1),
+        ("compare neighbouring runs, |X_n - X_2n| over |X_2n - X_4n|: the finest run is not "
+         "the exact answer, and |X_n - X_4n| over |X_2n - X_4n| is not 2^p"):
+            order_reference(step, f, y0, T, n, finest=True),
         "the ratio is upside down: the coarse difference |X_n - X_2n| goes on top": -expected,
         "use log base 2 (each grid halves the step), not the natural log":
             expected * math.log(2),

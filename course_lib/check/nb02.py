@@ -19,9 +19,12 @@ Exercises:
 from __future__ import annotations
 
 import hashlib
+import inspect
 import math
+import types
 
 import numpy as np
+import scipy.linalg
 from scipy.optimize import brentq
 
 from .. import fields
@@ -29,6 +32,7 @@ from ..integrators import forward_euler, integrate
 from . import Checker, exercise
 from ._answers import call, call_analysis, close, one_number, step_cases
 from ._nb02_cases import ORDER_CASES, order_mistakes, order_reference
+from .policy import name_chains
 
 _SLOPE_AT_END = (
     "the slope must be taken at the START of the step, f(t, y); you used the end of "
@@ -133,13 +137,15 @@ def _radius_mistakes(r0, dt, n, k) -> dict:
         }
 
 
-@exercise(allow=(), forbid=("scipy.integrate",))
+@exercise(allow=(), forbid=("scipy.integrate", np.linalg.matrix_power,
+                            scipy.linalg.fractional_matrix_power))
 def radius_after(ck: Checker, student) -> None:
     """Compare ``student(r0, dt, n, k)`` with ``r0 ((1 - k dt)² + dt²)^(n/2)`` and a simulated
     radius on the whirlpool.
 
-    The prompt asks for the analysis: a simulation (the library's, SciPy's or a loop of one's
-    own over the steps) is refused."""
+    The prompt asks for the analysis: a simulation (the library's, SciPy's, a loop of one's
+    own over the steps, or the step matrix raised to the n-th power, which is all n steps in
+    one call) is refused."""
     for r0, dt, n, k in _RADIUS_CASES:
         what = f"r0 = {r0:g}, dt = {dt:g}, n = {n}, k = {k:g}"
         expected = radius_formula(r0, dt, n, k)
@@ -200,7 +206,22 @@ def hidden_tol(answers) -> float:
     return round(0.02 + 0.06 * frac, 4)
 
 
-def _drift_hint(dt: float, tol: float, best: float, drift: float):
+#: Names of root finders (SciPy's): an answer whose code names none of them did not use one.
+_ROOT_FINDERS = frozenset({"brentq", "brenth", "bisect", "ridder", "toms748", "newton",
+                           "root_scalar", "root", "fsolve"})
+
+
+def _names(student, names: frozenset) -> set[str]:
+    """Which of ``names`` the answer's code (nested functions included) loads; empty when its
+    code cannot be read (e.g. the grader's replay of recorded answers)."""
+    code = getattr(inspect.unwrap(student), "__code__", None)  # under the library watch's wrapper
+    if not isinstance(code, types.CodeType):
+        return set()
+    return {n for _, head, attrs in name_chains(code)
+            for n in (head.rsplit(".", 1)[-1], *attrs) if n in names}
+
+
+def _drift_hint(dt: float, tol: float, best: float, drift: float, brentq_named: bool = False):
     """The hint for a step ``dt`` that is not the largest one keeping the drift within ``tol``."""
     def near(x, rel=1e-6):
         return x is not None and math.isclose(dt, x, rel_tol=rel)
@@ -225,10 +246,14 @@ def _drift_hint(dt: float, tol: float, best: float, drift: float):
                 "(1 + dt²)^(n/2), not (1 + dt²)^n")
     if near(root(tol / 100), 1e-4) or near(root(tol * 100), 1e-4):
         return "tol is a fraction: 0.01 means 1 %, not 0.01 % (and not 100 %)"
-    if abs(dt / best - 1) < 1e-3:
+    if abs(dt / best - 1) < 1e-3 and brentq_named:
         return ("your step is close to the largest one, but not within 1e-6: is your root "
                 "finder converged? brentq's xtol is an absolute tolerance, and dt is only a few "
                 "thousandths here: ask for far less (or keep the default)")
+    if abs(dt / best - 1) < 1e-3:
+        return ("your step is close to the largest one, but not within 1e-6 relative: whatever "
+                "finds it (a scan over steps, a bisection of your own) stops too far from the "
+                "root. A root finder such as scipy.optimize.brentq gives it to ten digits")
     if drift <= tol:
         return ("your step meets the bound but is not the LARGEST that does: solve "
                 "growth = 1 + tol to full precision (a root finder, not a guess)")
@@ -242,7 +267,7 @@ def drift_dt(ck: Checker, student) -> None:
     """``student(tol)`` must return the largest dt whose one-revolution drift is <= tol: for
     the quoted tolerances, then for one drawn from the answers (:func:`hidden_tol`), whose
     expected step is never printed."""
-    answers = []
+    answers, brentq_named = [], "brentq" in _names(student, _ROOT_FINDERS)
     for tol in (*_DRIFT_TOLS, None):
         hidden = tol is None
         if hidden:
@@ -263,13 +288,13 @@ def drift_dt(ck: Checker, student) -> None:
             ck.expect(True, f"{what}: dt = {dt:.8g} s keeps the drift at {100 * drift:.6g}%")
             continue
         if hidden:  # say what the step does, never which step was wanted
-            verdict = ("more than the budget" if drift > tol else
-                       "within the budget, but it is not the largest step that is")
-            detail = f"{grows}: {verdict} of {100 * tol:g}%"
+            budget = f"the budget of {100 * tol:g}%"
+            detail = (f"{grows}, more than {budget}" if drift > tol else
+                      f"{grows}, within {budget}, but a larger step would be too")
         else:
             detail = (f"expected dt = {best:.8g} s (to {DRIFT_RTOL:g} relative), got "
                       f"{dt:.8g} s: the radius grows by {100 * drift:.6g}% per revolution")
-        ck.expect(False, what, detail, _drift_hint(dt, tol, best, drift))
+        ck.expect(False, what, detail, _drift_hint(dt, tol, best, drift, brentq_named))
 
 
 # --- the observed order without an exact solution --------------------------------------
