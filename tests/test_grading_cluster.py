@@ -10,7 +10,11 @@ way of stopping costs nothing).
 
 import csv
 import os
+import queue
 import signal
+import socket
+import subprocess
+import sys
 import threading
 import time
 
@@ -19,13 +23,13 @@ from notebook_helpers import ROOT
 
 from course_lib.instructor import grade
 from course_lib.instructor.cluster import LibraryMismatch, grade_remote
-from course_lib.instructor.journal import grading_modules, library_files, row_from_json, row_to_json
+from course_lib.instructor.journal import Journal, grading_modules, library_files, row_from_json, row_to_json
 from course_lib.instructor.sandbox import Limits, Run
 from course_lib.instructor.submissions import Cell, Notebook
 from course_lib.instructor.synth import KINDS, kinds_for, synth_class
 from course_lib.instructor.verdicts import Row
 
-LIMITS = Limits(deadline=60, cell_s=6, exercise_s=1.5, memory_mb=1024, grace=1.0)
+LIMITS = Limits(deadline=60, cell_s=6, exercise_s=1.5, memory_mb=1024)  # what _cli_limits() passes
 SOLUTIONS = ROOT / "solutions"
 
 
@@ -67,22 +71,129 @@ def test_each_kind_gets_its_expected_status(synthetic, local):
     assert any(cell.get("dropped", 0) > 50_000_000 for cell in huge.details["run"].cells.values())
 
 
-def _kill_one_busy_worker(client, out, thread):
-    """SIGKILL the process of a worker that has tasks, once a first result is written."""
-    while thread.is_alive():
-        busy = [w for w, keys in client.processing().items() if keys]
-        written = out.exists() and out.read_text().count("\n") > 1
-        if busy and written:
-            pid = client.run(os.getpid, workers=[busy[0]])[busy[0]]
-            os.kill(pid, signal.SIGKILL)
-            return busy[0]
-        time.sleep(0.05)
-    return None
-
-
-def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, local, tmp_path):
+@pytest.fixture(scope="module")
+def dask_cluster():
+    """One two-worker LocalCluster (one process and one thread each) for this file's tests."""
     distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        yield cluster, client
+
+
+def _cli_limits() -> list[str]:
+    return ["--timeout", str(LIMITS.deadline), "--cell-timeout", str(LIMITS.cell_s),
+            "--exercise-timeout", str(LIMITS.exercise_s), "--memory", str(LIMITS.memory_mb)]
+
+
+def test_the_command_line_grades_on_a_scheduler_address(synthetic, local, dask_cluster, tmp_path):
+    cluster, _ = dask_cluster
     out = tmp_path / "grades.csv"
+    command = [sys.executable, "-m", "course_lib.instructor", "grade", str(synthetic["submissions"]),
+               "--out", str(out), "--solutions", str(SOLUTIONS), *_cli_limits(), "--no-progress",
+               "--scheduler", cluster.scheduler_address]
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert out.read_bytes() == local[1]  # byte for byte the one-machine gradebook
+    assert "wrote " in done.stdout and (tmp_path / "grades-report.html").exists()
+    assert not (tmp_path / "grades.csv.journal").exists()
+
+
+@pytest.mark.parametrize(("address", "says"), [
+    ("closed", "cannot reach 'tcp://127.0.0.1:{port}' (Connection refused)"),
+    ("nonsense", "'nonsense' is not a scheduler address (missing port number"),
+])
+def test_an_unreachable_scheduler_stops_at_once_with_a_clear_error(synthetic, tmp_path, capsys, address,
+                                                                   says):
+    pytest.importorskip("distributed")
+    from course_lib.instructor.__main__ import main
+
+    with socket.socket() as s:  # a port nothing listens on (bound, then closed)
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    address = f"tcp://127.0.0.1:{port}" if address == "closed" else address
+    out = tmp_path / "grades.csv"
+    out.write_text("an earlier run's gradebook")
+    start = time.monotonic()
+    code = main(["grade", str(synthetic["submissions"]), "--out", str(out), "--solutions", str(SOLUTIONS),
+                 "--no-progress", "--scheduler", address])
+    seconds = time.monotonic() - start
+    err = capsys.readouterr().err
+    assert code == 2 and "error: scheduler: " + says.format(port=port) in err, err
+    assert "start the scheduler" in err and "resume" not in err
+    assert seconds < 15  # not the Dask client's 30 s of retries; the probe alone waits <= 5 s
+    assert out.read_text() == "an earlier run's gradebook" and not (tmp_path / "grades.csv.journal").exists()
+
+
+_APPEND = Journal.append
+
+
+def _appended(monkeypatch, hook=None) -> list:
+    """Record the submissions whose rows the client writes to the journal; ``hook(n)`` is
+    called after the n-th one is written."""
+    keys: list = []
+    real = _APPEND  # not an earlier test's stand-in
+
+    def append(self, key, digest, rows):
+        real(self, key, digest, rows)
+        keys.append(key)
+        if hook is not None:
+            hook(len(keys))
+
+    monkeypatch.setattr(Journal, "append", append)
+    return keys
+
+
+def _grade_tasks_on(client) -> list[str]:
+    return client.run_on_scheduler(lambda dask_scheduler: [str(k) for k in dask_scheduler.tasks
+                                                           if str(k).startswith("grade-")])
+
+
+def test_an_interrupted_cluster_run_resumes_where_it_stopped(synthetic, local, dask_cluster, tmp_path,
+                                                             monkeypatch, capsys):
+    _, client = dask_cluster
+    out = tmp_path / "grades.csv"
+
+    def interrupt(n):
+        if n == 2:
+            raise KeyboardInterrupt  # Ctrl-C with submissions in flight on the cluster
+
+    first = _appended(monkeypatch, interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        grade.grade_class([synthetic["submissions"]], out, solutions=SOLUTIONS, limits=LIMITS,
+                          progress=False, scheduler=client)
+    assert len(first) == 2 and (tmp_path / "grades.csv.journal").exists()
+    with out.open() as fh:  # a valid gradebook of what was graded (the last one may be only in the journal)
+        assert {first[0][0]} <= {r["student"] for r in csv.DictReader(fh)} <= {s for s, _ in first}
+    deadline = time.monotonic() + 30
+    while _grade_tasks_on(client) and time.monotonic() < deadline:  # the tasks in flight were cancelled
+        time.sleep(0.1)
+    assert not _grade_tasks_on(client)
+    capsys.readouterr()
+    second = _appended(monkeypatch)
+    grade.grade_class([synthetic["submissions"]], out, solutions=SOLUTIONS, limits=LIMITS,
+                      progress=False, scheduler=client)
+    assert "resuming: 2 of 8 submissions" in capsys.readouterr().err
+    assert not set(first) & set(second) and len(first) + len(second) == 8  # each graded once
+    assert out.read_bytes() == local[1] and not (tmp_path / "grades.csv.journal").exists()
+
+
+def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, local, dask_cluster, tmp_path,
+                                                                   monkeypatch):
+    """The client is held after each result it writes until a worker with work in hand has
+    been killed, so the kill always lands in the middle of the run, on a worker that holds
+    tasks whose results the client has not taken yet: those must be computed again."""
+    _, client = dask_cluster
+    out = tmp_path / "grades.csv"
+    waiting: queue.Queue = queue.Queue()  # one event per held result; None: the run ended
+    killed: list = []
+
+    def hold(n):
+        if not killed:
+            go_on = threading.Event()
+            waiting.put(go_on)
+            assert go_on.wait(120), "the test did not let the client go on"
+
+    _appended(monkeypatch, hold)
     done: dict = {}
 
     def run():
@@ -91,17 +202,27 @@ def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, lo
                                              limits=LIMITS, progress=False, scheduler=client)
         except BaseException as exc:  # reported by the main thread
             done["error"] = exc
+        finally:
+            waiting.put(None)
 
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
-        thread = threading.Thread(target=run)
-        thread.start()
-        killed = _kill_one_busy_worker(client, out, thread)
+    thread = threading.Thread(target=run)
+    thread.start()
+    try:
+        while (go_on := waiting.get(timeout=300)) is not None:
+            busy = [w for w, keys in client.processing().items() if keys]
+            if busy and not killed:  # the client is held: no result of this run is taken meanwhile
+                pid = client.run(os.getpid, workers=[busy[0]])[busy[0]]
+                os.kill(pid, signal.SIGKILL)
+                killed.append(busy[0])
+            go_on.set()
+    finally:
         thread.join(timeout=300)
-        workers_after = set(client.nthreads())
     assert "error" not in done, done.get("error")
-    assert killed is not None, "the run ended before a worker could be killed"
-    assert killed not in workers_after  # the nanny started a new worker in its place
+    assert killed, "no worker held a task while the client was waiting"
+    deadline = time.monotonic() + 60
+    while len(client.nthreads()) < 2 and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert killed[0] not in client.nthreads() and len(client.nthreads()) == 2  # the nanny replaced it
     assert out.read_bytes() == local[1]  # byte for byte: nothing lost, nothing twice
     keys = [(r.student, r.assignment, r.exercise) for r in done["rows"]]
     assert len(keys) == len(set(keys)) == len(local[0])
@@ -137,6 +258,16 @@ def _fake(calls: list, stop_at: int | None = None):
     return fake
 
 
+class _NoSandbox:
+    """Stands in for the sandbox's Runtime (a copy of course_lib, a warmed matplotlib: seconds
+    of CPU per run) where a stand-in grades."""
+
+    landlock = 1
+
+    def cleanup(self):
+        pass
+
+
 def _grade(synthetic, out, **options):
     options = {"limits": LIMITS, **options}
     return grade.grade_class([synthetic["submissions"]], out, solutions=SOLUTIONS, jobs=1, progress=False,
@@ -144,6 +275,7 @@ def _grade(synthetic, out, **options):
 
 
 def test_an_interrupted_run_resumes_where_it_stopped(synthetic, tmp_path, monkeypatch):
+    monkeypatch.setattr(grade, "Runtime", _NoSandbox)
     calls: list = []
     monkeypatch.setattr(grade, "grade_task", _fake(calls))
     _grade(synthetic, tmp_path / "whole.csv", feedback_dir=tmp_path / "fb-whole")
@@ -171,6 +303,7 @@ def test_an_interrupted_run_resumes_where_it_stopped(synthetic, tmp_path, monkey
 
 
 def test_a_journal_cut_short_changed_files_and_other_limits_are_regraded(synthetic, tmp_path, monkeypatch):
+    monkeypatch.setattr(grade, "Runtime", _NoSandbox)
     out = tmp_path / "grades.csv"
     journal = tmp_path / "grades.csv.journal"
     first: list = []

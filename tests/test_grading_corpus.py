@@ -11,6 +11,7 @@ should. (tests/test_grading_cluster.py proves a local run writes the same gradeb
 
 import csv
 import hashlib
+import socket
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -52,13 +53,37 @@ def cluster():
 
 
 @pytest.fixture(scope="module")
-def graded(tmp_path_factory, cluster):
+def services(tmp_path_factory):
+    """Services on the grader's machine that hostile submissions try to reach: a TCP
+    listener and a UDP "resolver" on 127.0.0.1, and a Unix socket. Nothing may reach them."""
+    folder = tmp_path_factory.mktemp("services")
+    with socket.create_server(("127.0.0.1", 0)) as tcp, \
+            socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as udp, \
+            socket.socket(socket.AF_UNIX) as unix:
+        udp.bind(("127.0.0.1", 0))
+        unix.bind(str(folder / "service.sock"))
+        unix.listen()
+        for s in (tcp, udp, unix):
+            s.setblocking(False)
+        yield SimpleNamespace(tcp=tcp, udp=udp, unix=unix, net={
+            "tcp": tcp.getsockname()[1], "udp": udp.getsockname()[1], "unix": folder / "service.sock"})
+
+
+#: Submissions that try the network, or another thread of the worker, and the attempts each
+#: prints as "refused: <what> <error>".
+NETWORK = {"network_tcp_02": ["tcp", "listen", "unix", "raw"],
+           "network_dns_02": ["getaddrinfo", "gethostbyname", "udp"],
+           "thread_escape_02": ["write", "tcp"]}
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory, cluster, services):
     base = tmp_path_factory.mktemp("class")
     root = base / "submissions"
     grader_file = base / "grader" / "notes.txt"
     grader_file.parent.mkdir()
     grader_file.write_text("the instructor's notes")
-    expected = build(root, grader_file)
+    expected = build(root, grader_file, services.net)
     before, kit_before = digest(base), kit_digest()
     out = base / "out"
     start = time.monotonic()
@@ -200,3 +225,46 @@ def test_class_report_is_self_contained(graded):
 
 def test_grading_time_is_reasonable(graded):
     assert graded.seconds < 240  # about 30 s on two idle cores; generous for a busy machine
+
+
+def _printed(rows, student: str) -> str:
+    run = next(r.details["run"] for r in rows if r.student == student and r.details.get("run"))
+    return "".join(cell.get("output") or "" for cell in run.cells.values())
+
+
+def _nothing_reached(services) -> None:
+    for listener in (services.tcp, services.unix):
+        with pytest.raises(BlockingIOError):
+            listener.accept()[0].close()  # a connection a submission made
+    with pytest.raises(BlockingIOError):
+        services.udp.recvfrom(512)  # a datagram a submission sent (the DNS query)
+
+
+def _no_network(rows, services) -> None:
+    for student, attempts in NETWORK.items():
+        run = next(r.details["run"] for r in rows if r.student == student and r.details.get("run"))
+        assert run.sockets_denied, "the worker could not deny sockets (no seccomp?)"
+        printed = _printed(rows, student)
+        assert "REACHED" not in printed, printed
+        refused = [ln.split()[1] for ln in printed.splitlines() if ln.startswith("refused:")]
+        assert refused == attempts, printed
+    assert "Permission denied" in _printed(rows, "network_tcp_02")
+    assert "thread parent-watch" in _printed(rows, "thread_escape_02")  # the thread did try
+    _nothing_reached(services)
+
+
+@pytest.mark.skipif(landlock.abi_version() == 0, reason="kernel without Landlock: no confinement")
+def test_no_submission_reaches_the_network_or_escapes_through_a_thread_in_a_dask_worker(graded, services):
+    _no_network(graded.rows, services)
+    assert graded.grader_file.read_text() == "the instructor's notes"
+
+
+@pytest.mark.skipif(landlock.abi_version() == 0, reason="kernel without Landlock: no confinement")
+def test_no_submission_reaches_the_network_when_graded_here(graded, services, tmp_path):
+    out = tmp_path / "out"
+    rows = grade_class([graded.root], out / "grades.csv", solutions=ROOT / "solutions", assignments=[A02],
+                       limits=LIMITS, progress=False, only=sorted(NETWORK), jobs=2)
+    _no_network(rows, services)
+    assert graded.grader_file.read_text() == "the instructor's notes"
+    statuses = by_student(rows)
+    assert {s: statuses[s][A02] for s in NETWORK} == {s: graded.expected[s][A02] for s in NETWORK}

@@ -124,10 +124,7 @@ def grade_on_cluster(tasks: list[Task], kit, limits: Limits, scheduler) -> Itera
     except ImportError as exc:  # pragma: no cover - distributed is a dependency of the kit
         raise ValueError("scheduler: grading on a cluster needs the 'distributed' package") from exc
     own = not isinstance(scheduler, Client)
-    try:
-        client = Client(scheduler, timeout="30s") if own else scheduler
-    except OSError as exc:
-        raise ValueError(f"scheduler: cannot reach {scheduler!r} ({exc})") from None
+    client = connect(str(scheduler)) if own else scheduler
     run = uuid.uuid4().hex[:8]
     library = library_files(grading_modules(sorted({t.assignment.check_module for t in tasks})))
     futures: dict = {}
@@ -176,6 +173,39 @@ def grade_on_cluster(tasks: list[Task], kit, limits: Limits, scheduler) -> Itera
             client.cancel(list(futures), force=True)
         if own:
             client.close()
+
+
+#: Seconds to wait for a scheduler's port to answer before saying it cannot be reached.
+PROBE_S = 5.0
+
+
+def connect(address: str):
+    """A client of the scheduler at ``address``; ValueError naming it if there is none.
+
+    A TCP or TLS address is tried first with a plain connection, so a wrong address or a
+    scheduler that is not running is reported in at most :data:`PROBE_S` seconds (the Dask
+    client would retry for its whole 30 s timeout)."""
+    import socket
+
+    from distributed import Client
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    hint = "start the scheduler (`dask scheduler`) or pass the address it prints, e.g. tcp://10.0.0.5:8786"
+    try:
+        scheme, location = parse_address(address, strict=False)
+        if scheme in ("tcp", "tls"):
+            host, port = parse_host_port(location)
+            socket.create_connection((host, port), timeout=PROBE_S).close()
+    except ValueError as exc:
+        raise ValueError(f"scheduler: {address!r} is not a scheduler address ({exc}); {hint}") from None
+    except OSError as exc:
+        why = exc.strerror or str(exc) or type(exc).__name__
+        raise ValueError(f"scheduler: cannot reach {address!r} ({why}); {hint}") from None
+    try:
+        return Client(address, timeout="30s")
+    except Exception as exc:  # anything but a Dask scheduler answering
+        raise ValueError(f"scheduler: {address!r} did not answer as a Dask scheduler "
+                         f"({type(exc).__name__}: {str(exc)[:200]}); {hint}") from None
 
 
 def _too_big(path: Path) -> bool:

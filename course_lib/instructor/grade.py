@@ -105,6 +105,13 @@ def grade_class(paths: list[Path], out_csv: Path, *, solutions: Path | None = No
     ``resume`` (the default) submissions an earlier interrupted run graded are not graded
     again. Returns the rows (one per student, assignment and exercise), sorted.
     """
+    if isinstance(scheduler, str):  # an address: connect before anything is written
+        from .cluster import connect
+
+        with connect(scheduler) as client:
+            return grade_class(paths, out_csv, solutions=solutions, assignments=assignments, limits=limits,
+                               jobs=jobs, feedback_dir=feedback_dir, report=report, progress=progress,
+                               only=only, scheduler=client, resume=resume)
     from .journal import Journal, file_digest
 
     kit = load_kit(solutions or default_solutions())

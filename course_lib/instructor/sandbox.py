@@ -11,7 +11,8 @@ a warmed matplotlib cache. :func:`run_submission` then gives each submission
   cell and per exercise (an alarm in the worker, then a kill), and a deadline for the
   whole notebook; on Linux with Landlock, reads only below the Python installation, the
   site-packages and the private course_lib, writes only in its folder, no programs, no
-  network, no signals outside itself;
+  signals outside itself; and with seccomp, no socket of any kind (no network: TCP, UDP,
+  DNS, raw or Unix-domain);
 - restarts: if the process dies or must be killed in a cell, it is started again without
   that cell; in an exercise, that exercise is recorded as lost and the rest continue.
 
@@ -124,6 +125,7 @@ class Run:
     setup_error: str | None = None
     out_of_time: bool = False
     landlock: int = 0
+    sockets_denied: bool = False
     seconds: float = 0.0
     attempts: int = 0
 
@@ -290,6 +292,7 @@ def _apply(msg: dict, state: _Attempt, run: Run) -> None:
     if event == "ready":
         state.ready, state.phase = True, None
         run.landlock = int(msg.get("landlock", 0))
+        run.sockets_denied = bool(msg.get("sockets_denied", False))
     elif event == "cell_start" and state.ready and state.phase is None:
         state.phase = ("cell", int(msg["cell"]))
     elif event == "cell_end" and state.phase == ("cell", msg.get("cell")):

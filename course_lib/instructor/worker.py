@@ -4,7 +4,8 @@ Started by :mod:`.sandbox` as ``python -I -S worker.py FD`` with a job (JSON) on
 never imported by the grader. It sets its import path (a private copy of course_lib and
 the environment's site-packages, nothing from the submission's folder), its resource
 limits, imports the libraries and the assignment's checks, then gives up file system and
-network rights (:mod:`.landlock`) before running a single line of student code.
+network rights (:mod:`.landlock`, then :mod:`.seccomp` for the sockets Landlock does not
+cover) before running a single line of student code, with no other thread alive.
 
 It then executes the student's code cells in order (errors allowed, each cell under a
 time limit; the notebook's own ``check.…(…)`` calls do nothing here), and for each
@@ -114,25 +115,40 @@ def compare(before: dict, check_module: str) -> list[str]:
     return found[:20]
 
 
-def watch_parent(period: float = 0.5) -> None:
-    """End this process group if the grader that started it dies (the worker is then
-    adopted by another process). A killed Dask worker or grader must not leave a
-    submission running: its limits stop a busy loop, but not one that sleeps. A thread that
-    polls ``getppid`` rather than ``PR_SET_PDEATHSIG``, which fires when the parent's
-    *thread* ends, and the grader starts workers from pool threads."""
-    parent, killpg, getpgid, sleep = os.getppid(), os.killpg, os.getpgid, time.sleep
+def watch_parent(parent: int, period: float = 0.5) -> None:
+    """End this process group if the grader that started it (pid ``parent``) dies (the
+    worker is then adopted by another process). A killed Dask worker or grader must not
+    leave a submission running: its limits stop a busy loop, but not one that sleeps. A
+    thread that polls ``getppid`` rather than ``PR_SET_PDEATHSIG``, which fires when the
+    parent's *thread* ends, and the grader starts workers from pool threads.
+
+    Started only once the sandbox is closed: Landlock confines the thread that asks and the
+    threads it starts afterwards, so a thread started before would run unconfined, and
+    student code can make it run its own functions (through ``os.getppid`` or the
+    closure's cells)."""
+    getppid, killpg, getpgid, sleep = os.getppid, os.killpg, os.getpgid, time.sleep
 
     def run() -> None:
         while True:
             sleep(period)
-            if os.getppid() != parent:
+            if getppid() != parent:
                 killpg(getpgid(0), signal.SIGKILL)
 
     threading.Thread(target=run, name="parent-watch", daemon=True).start()
 
 
+def only_thread() -> None:
+    """Refuse to close the sandbox with another thread alive (it would stay unconfined)."""
+    try:
+        tasks = os.listdir("/proc/self/task")
+    except OSError:
+        tasks = [0] * threading.active_count()
+    if len(tasks) != 1:
+        raise RuntimeError(f"{len(tasks)} threads before the sandbox closes: they would run unconfined")
+
+
 def main() -> None:
-    watch_parent()
+    parent = os.getppid()
     channel_fd = int(sys.argv[1])
     job = json.loads(sys.stdin.read())
     sys.stdin = open(os.devnull)  # student code that reads stdin gets nothing
@@ -149,7 +165,7 @@ def main() -> None:
     import matplotlib.pyplot as plt
 
     from course_lib.check import evaluate
-    from course_lib.instructor import landlock
+    from course_lib.instructor import landlock, seccomp
     from course_lib.instructor.recorder import Capture, Recorder, Timeout, excerpt
     from course_lib.instructor.scan import strip_magics
 
@@ -160,7 +176,10 @@ def main() -> None:
     for name in originals:
         setattr(checks, name, lambda *args, **kwargs: None)  # the notebook's own check calls
     before = snapshot(job["check_module"])
+    only_thread()
     abi = landlock.restrict(job["landlock"]["read"], job["landlock"]["write"])
+    sockets_denied = seccomp.deny_sockets()
+    watch_parent(parent)
     os.chdir(job["workdir"])
     capture = Capture(job["limits"]["output_chars"], 40 * job["limits"]["output_chars"])
     sys.stdout = sys.stderr = capture
@@ -170,7 +189,7 @@ def main() -> None:
                                                                           system=print))
     sys.modules["__main__"] = main_module
     ns = main_module.__dict__
-    channel.send({"event": "ready", "landlock": abi})
+    channel.send({"event": "ready", "landlock": abi, "sockets_denied": sockets_denied})
 
     skip = set(job["skip_cells"])
     for cell in job["cells"]:

@@ -87,9 +87,15 @@ def _all(status: str, assignment: str, **exceptions: str) -> list[str]:
     return [exceptions.get(name, status) for name in EX[assignment]]
 
 
-def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
+#: A DNS query for example.com's A record, as a resolver library sends it over UDP.
+DNS_QUERY = "12340100000100000000000007" + b"example".hex() + "03" + b"com".hex() + "0000010001"
+
+
+def build(root: Path, grader_file: Path, net: dict) -> dict[str, dict[str, list[str]]]:
     """Write the class folder; ``grader_file`` is a file of the grader's that one submission
-    tries to overwrite by its absolute path."""
+    tries to overwrite by its absolute path; ``net`` the services the grader's machine
+    offers that submissions try to reach: ``tcp`` and ``udp`` ports on 127.0.0.1 and a
+    ``unix`` socket path (the test listens on them, so a success would be seen)."""
     expected: dict[str, dict[str, list[str]]] = {}
 
     def student(name: str, **rows) -> Path:
@@ -246,6 +252,55 @@ def build(root: Path, grader_file: Path) -> dict[str, dict[str, list[str]]]:
             except OSError as exc:
                 print("refused:", target, exc)
         """).write(nb02("writes_outside_02"))
+    attempts = """
+        def attempt(what, action):
+            try:
+                action()
+                print("REACHED:", what)
+            except OSError as exc:  # gaierror included
+                print("refused:", what, exc)
+        """
+    student("network_tcp_02", s02=ok02)
+    Sub(A02).solve().add(attempts + f"""
+        import socket
+        attempt("tcp", lambda: socket.create_connection(("127.0.0.1", {net['tcp']}), timeout=2))
+        attempt("listen", lambda: socket.create_server(("127.0.0.1", 0)))
+        attempt("unix", lambda: socket.socket(socket.AF_UNIX).connect({str(net['unix'])!r}))
+        attempt("raw", lambda: socket.socket(socket.AF_INET, socket.SOCK_RAW, socket.IPPROTO_ICMP))
+        """).write(nb02("network_tcp_02"))
+    student("network_dns_02", s02=ok02)
+    Sub(A02).solve().add(attempts + f"""
+        import socket
+        attempt("getaddrinfo", lambda: socket.getaddrinfo("example.com", 443))
+        attempt("gethostbyname", lambda: socket.gethostbyname("pypi.org"))
+        query = bytes.fromhex({DNS_QUERY!r})  # what the resolver sends, to a resolver the test runs
+        attempt("udp", lambda: socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+                .sendto(query, ("127.0.0.1", {net['udp']})))
+        """).write(nb02("network_dns_02"))
+    student("thread_escape_02", s02=ok02)  # another thread of the worker does the work
+    Sub(A02).solve().add(f"""
+        import os, socket, threading, time
+        seen = []
+        def attempt():
+            if seen:
+                return
+            seen.append("thread " + threading.current_thread().name)
+            for what, action in [
+                    ("write", lambda: open({str(grader_file)!r}, "w").write("written by a thread")),
+                    ("tcp", lambda: socket.create_connection(("127.0.0.1", {net['tcp']}), timeout=2))]:
+                try:
+                    action()
+                    seen.append("REACHED: " + what)
+                except OSError as exc:
+                    seen.append(f"refused: {{what}} {{exc}}")
+        for thread in threading.enumerate():  # what each other thread calls now calls attempt
+            for cell in getattr(getattr(thread, "_target", None), "__closure__", None) or ():
+                if callable(cell.cell_contents):
+                    cell.cell_contents = lambda *a, real=cell.cell_contents: (attempt(), real(*a))[1]
+        time.sleep(1.2)
+        attempt()  # from here if no other thread did
+        print(*seen, sep=chr(10))
+        """).write(nb02("thread_escape_02"))
     student("uses_reference_02", s02=_all("pending", A02, forward_euler_step="incorrect",
                                            radius_after="incorrect", drift_dt="correct"))
     (Sub(A02).solve("drift_dt").answer("forward_euler_step", "return cl.forward_euler(f, t, y, dt)")
