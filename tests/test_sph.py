@@ -219,6 +219,7 @@ def test_akinci_weights_of_a_line():
     ({"spacing": 0.0}, "spacing"), ({"kernel": "gauss"}, "valid choices"),
     ({"omega": 1.5}, "omega"), ({"viscosity": -1.0}, "viscosity"),
     ({"wall_pressure": "zero"}, "valid choices are: extrapolated, mirrored"),
+    ({"wall_velocity": "slip"}, "valid choices are: own, no-slip"),
     ({"max_iterations": 0}, "max_iterations"), ({"gravity": (0.0, np.inf)}, "gravity"),
     ({"cfl": np.nan}, "cfl")])
 def test_params_bad_input(bad, match):
@@ -356,3 +357,132 @@ def test_on_step_is_not_called_after_a_blow_up():
     calls = []
     sim.run(0.2, on_step=lambda s: calls.append(s.steps))
     assert not sim.stable and calls == list(range(1, sim.steps + 1))
+
+
+# Moving walls (a lifted gate), and Adami et al.'s no-slip wall velocity.
+
+@pytest.fixture(scope="module")
+def block():
+    """A 20 × 12 lattice block in a box (walls at rest), its pairs and densities."""
+    params = sph.Params(spacing=0.025, viscosity=0.01, wall_viscosity=0.01)
+    x = scenes.lattice(0.5, 0.3, 0.025)
+    wall = boundary.box(0.5, 0.5, 0.025, params.rho0, params.h)
+    nb = density.neighbourhood(x, params.h, params.kernel, wall)
+    return params, x, wall, nb, density.summation_density(nb, params.mass, wall.psi)
+
+
+def test_walls_moving_with_the_fluid_exert_nothing(block):
+    """Fluid and walls moving together at U: the viscous force and the rate of change of the
+    density vanish to round-off, as at rest (Galilean invariance); walls at rest drag every
+    fluid particle near them back, against U."""
+    params, x, wall, nb, rho = block
+    U = np.array([1.3, -0.4])
+    v = np.tile(U, (len(x), 1))
+    moving = boundary.Boundary(wall.x, wall.psi, np.tile(U, (wall.n, 1)))
+    assert moving.moving and not wall.moving
+    nu, m = params.viscosity, params.mass
+    at_rest = forces.viscosity_acceleration(nb, m, rho, v, nu, nu, wall.psi)
+    along = forces.viscosity_acceleration(nb, m, rho, v, nu, nu, wall.psi, moving.v)
+    assert np.abs(along).max() <= 1e-12 * np.abs(at_rest).max()
+    near = np.isin(np.arange(len(x)), nb.bi)
+    assert near.sum() > 40 and np.all(at_rest[near] @ U < 0) and np.all(at_rest[~near] == 0.0)
+    op = PressureOperator(nb, m, rho, wall.psi)
+    assert np.abs(op.divergence(v)).max() > 1.0                 # the walls' term, at rest
+    flux = op.wall_flux(moving.v)
+    np.testing.assert_allclose(flux, density.wall_sum(nb, wall.psi[nb.bk] * (nb.bgw @ U)), rtol=1e-12,
+                               atol=1e-12 * np.abs(flux).max())
+    assert np.abs(op.divergence(v) - flux).max() <= 1e-12 * np.abs(flux).max()
+
+
+def test_a_sliding_floor_drags_the_water_along(block):
+    """One WCSPH step of water at rest (no gravity) on a floor sliding at 1 m/s: the two rows
+    within the floor's reach move with it, the first more; deeper rows feel nothing (away
+    from the side walls)."""
+    _, x, wall, _, _ = block
+    v_wall = np.zeros_like(wall.x)
+    v_wall[wall.x[:, 1] < 0, 0] = 1.0
+    floor = boundary.Boundary(wall.x, wall.psi, v_wall)
+    calm = sph.Params(spacing=0.025, viscosity=0.01, wall_viscosity=0.01, gravity=(0.0, 0.0),
+                      sound_speed=20.0)
+    _, v, _ = wcsph.step(x, np.zeros_like(x), calm, floor, dt=1e-4)
+    row = np.round(x[:, 1] / 0.025 - 0.5).astype(int)
+    middle = (x[:, 0] > calm.support) & (x[:, 0] < 0.5 - calm.support)     # away from the sides
+    drag = [v[middle & (row == k), 0] for k in range(3)]
+    assert np.all(drag[0] > 0) and np.all(drag[1] > 0) and drag[0].min() > drag[1].max()
+    # the rest: round-off only (the lattice's density is ρ₀ to 1e-12: pressures of 1e-9 Pa)
+    assert np.abs(v[middle & (row >= 2)]).max() < 1e-12 and np.abs(v[middle, 1]).max() < 1e-12
+
+
+def test_no_slip_wall_velocity(block):
+    """Adami et al.'s wall velocity 2 v_w - ṽ with ṽ = Σ_i v_i W_ik / Σ_i W_ik, against a
+    plain loop; wall particles that no fluid reaches keep their own velocity."""
+    params, x, wall, nb, rho = block
+    rng = np.random.default_rng(3)
+    v = rng.normal(size=x.shape)
+    own = rng.normal(size=wall.x.shape)
+    ghost = forces.no_slip_velocity(nb, v, own)
+    for k in rng.choice(wall.n, 40, replace=False):
+        w = kernels.cubic(np.linalg.norm(x - wall.x[k], axis=1), params.h)
+        if w.sum() == 0:
+            np.testing.assert_array_equal(ghost[k], own[k])
+        else:
+            np.testing.assert_allclose(ghost[k], 2 * own[k] - w @ v / w.sum(), rtol=1e-12, atol=1e-12)
+    U = np.array([0.7, 0.2])                       # a uniform flow over walls at rest: ṽ = U
+    reached = np.bincount(nb.bk, minlength=wall.n) > 0
+    still = forces.no_slip_velocity(nb, np.tile(U, (len(x), 1)), n_wall=wall.n)
+    np.testing.assert_allclose(still[reached], -U[None].repeat(reached.sum(), 0), rtol=1e-12)
+    assert np.all(still[~reached] == 0.0)
+    # in the viscous force: a uniform flow over a no-slip wall at rest is dragged twice as hard
+    flow = np.tile(U, (len(x), 1))
+    no_slip = sph.Params(spacing=0.025, viscosity=0.01, wall_viscosity=0.01, wall_velocity="no-slip")
+    ghost = forces.viscous_wall_velocity(nb, no_slip, flow, wall)
+    np.testing.assert_array_equal(ghost, still)
+    assert forces.viscous_wall_velocity(nb, params, flow, wall) is None      # "own", at rest
+    firm = forces.viscosity_acceleration(nb, params.mass, rho, flow, 0.01, 0.01, wall.psi, ghost)
+    soft = forces.viscosity_acceleration(nb, params.mass, rho, flow, 0.01, 0.01, wall.psi)
+    np.testing.assert_allclose(firm, 2 * soft, rtol=1e-12, atol=1e-15)
+
+
+def test_gate_positions_speed_and_clearance():
+    """A gate continues the lattice past x = a, rises at its speed, and leaves the walls once
+    its lowest particle is above the given height."""
+    params = sph.Params(spacing=0.1)
+    g = boundary.gate(1.0, 2.5, 0.1, params.rho0, params.h, speed=2.0)
+    np.testing.assert_allclose(np.unique(g.x[:, 0]), [1.05, 1.15])
+    np.testing.assert_allclose(np.unique(g.x[:, 1]), np.arange(25) * 0.1 + 0.05)
+    assert np.all(g.psi == params.mass) and g.bottom(0.3) == pytest.approx(0.65)
+    box = boundary.box(6.0, 2.5, 0.1, params.rho0, params.h)
+    walls = g.walls(box, 0.3)
+    assert walls.n == box.n + len(g.x) and walls.moving
+    np.testing.assert_allclose(walls.x[box.n:], g.x + np.array([0.0, 0.6]))
+    np.testing.assert_array_equal(walls.v[box.n:], np.tile([0.0, 2.0], (len(g.x), 1)))
+    assert not np.any(walls.v[:box.n]) and g.walls(box, 0.3, clear=0.6) is box
+    assert boundary.gate(1.0, 2.5, 0.1, 1000.0, params.h).walls(box, 0.0) is box    # speed inf
+    with pytest.raises(ValueError, match="speed"):
+        boundary.gate(1.0, 2.5, 0.1, 1000.0, params.h, speed=-1.0)
+    with pytest.raises(ValueError, match="velocities v"):
+        boundary.Boundary(box.x, box.psi, np.zeros((3, 2)))
+
+
+def test_a_gate_holds_the_water_until_it_opens():
+    """A gate lifted at 1 mm/s keeps the column in for 0.1 s (its particles stay within a
+    twentieth of a spacing of the gate's face); released at once, the foot has moved out
+    by more than half a spacing by then. A fast gate limits the step (it moves at most
+    λ Δx per step) while it touches the water, and is gone from the walls once it has
+    cleared them."""
+    dx = scenes.column_spacing(200)[0]
+    slow = scenes.dam_break_simulation(200, gate_speed=1e-3)
+    slow.run(0.1)
+    assert scenes.front(slow.x, dx) <= 1.0 + 0.05 * dx             # jiggles, stays in
+    once = scenes.dam_break_simulation(200)
+    once.run(0.1)
+    assert scenes.front(once.x, dx) > 1.0 + 0.5 * dx
+    fast = scenes.dam_break_simulation(200, gate_speed=40.0)
+    fast.run(0.12)
+    limit = fast.params.cfl * dx / 40.0
+    t, dt = np.array(fast.history["t"]), np.array(fast.history["dt"])
+    touching = fast.gate.bottom(t - dt) < 2.0              # below the column's top at the start
+    assert touching.sum() > 20 and np.max(dt[touching]) <= limit * (1 + 1e-12)
+    assert fast.walls() is fast.wall and max(fast.history["dt"]) > 2 * limit
+    T, Z = scenes.dam_break(n_particles=200, t_end=0.05, gate_speed=40.0)
+    assert T[0] == 0.0 and Z[0] == 1.0 and np.all(np.diff(T) > 0)

@@ -10,7 +10,12 @@ layer of particles sampled at any spacing works; a single layer on a flat wall s
 leaves the density of the first fluid row 15 % off (the notebook measures it). Our
 boxes therefore use the equivalent that is exact for a flat wall at rest: enough rows of
 wall particles to fill the kernel's support, on the fluid's own lattice, each weighted
-by a fluid particle's mass ``ρ₀ V`` (:func:`lattice_volume`, :func:`box`). Core module.
+by a fluid particle's mass ``ρ₀ V`` (:func:`lattice_volume`, :func:`box`).
+
+Wall particles may move: a :class:`Boundary` carries their velocities ``v`` (zero for a
+fixed wall), which enter the viscous force and the continuity equation, and a
+:class:`Gate` is a block of wall particles lifted at a constant speed (the barrier of a
+dam-break experiment). Core module.
 """
 
 from __future__ import annotations
@@ -25,10 +30,12 @@ from .kernels import KERNELS, SUPPORT, check_name
 
 @dataclass
 class Boundary:
-    """Fixed wall particles: positions ``x`` (K, dim), m, and weights ``psi`` (K,), kg."""
+    """Wall particles: positions ``x`` (K, dim), m, weights ``psi`` (K,), kg, and
+    velocities ``v`` (K, dim), m/s (default: at rest)."""
 
     x: np.ndarray
     psi: np.ndarray
+    v: np.ndarray | None = None
     tree: cKDTree = field(init=False, repr=False)
 
     def __post_init__(self):
@@ -38,7 +45,16 @@ class Boundary:
             raise ValueError(f"wall positions x must have shape (K, dim), got {self.x.shape}")
         if not np.all(np.isfinite(self.x)) or not np.all(self.psi > 0):
             raise ValueError("wall positions must be finite and weights psi positive")
+        self.v = np.zeros_like(self.x) if self.v is None else np.array(self.v, dtype=float)
+        if self.v.shape != self.x.shape or not np.all(np.isfinite(self.v)):
+            raise ValueError(f"wall velocities v must be finite with the shape of x, {self.x.shape}, "
+                             f"got {self.v.shape}")
         self.tree = cKDTree(self.x)
+
+    @property
+    def moving(self) -> bool:
+        """Whether any wall particle moves."""
+        return bool(np.any(self.v))
 
     @property
     def n(self) -> int:
@@ -98,3 +114,56 @@ def box(width: float, height: float, spacing: float, rho0: float, h: float,
     right = np.stack(np.meshgrid(width + offsets, ys, indexing="ij"), axis=-1).reshape(-1, 2)
     volume = lattice_volume(spacing, h, kernel, 2)
     return Boundary(np.concatenate([floor, left, right]), rho0 * volume)
+
+
+@dataclass
+class Gate:
+    """A barrier of wall particles at ``x`` (K, dim) (m, at t = 0) with weights ``psi``
+    (K,) (kg), lifted at ``speed`` (m/s, along +y) from t = 0 on: at time ``t`` its
+    particles are at ``x + speed t ŷ`` and move at ``speed ŷ``. ``speed=inf`` removes it
+    at once (a release without a gate)."""
+
+    x: np.ndarray
+    psi: np.ndarray
+    speed: float
+
+    def __post_init__(self):
+        self.x = np.asarray(self.x, dtype=float)
+        self.psi = np.broadcast_to(np.asarray(self.psi, dtype=float), (len(self.x),)).copy()
+        if not (isinstance(self.speed, int | float | np.floating) and self.speed > 0):
+            raise ValueError(f"the gate's speed must be a positive number of m/s, got {self.speed!r}")
+
+    def offset(self, t: float) -> np.ndarray:
+        """The lift (dim,) in m at time ``t`` (s)."""
+        up = np.zeros(self.x.shape[1])
+        up[1] = self.speed * t
+        return up
+
+    def bottom(self, t: float) -> float:
+        """Height (m) of the gate's lowest particle at time ``t`` (s)."""
+        return float(np.min(self.x[:, 1])) + self.speed * t if np.isfinite(self.speed) else np.inf
+
+    def walls(self, wall: Boundary | None, t: float, clear: float = np.inf) -> Boundary | None:
+        """``wall`` with the gate's particles added as they are at time ``t`` (s), unless the
+        gate's bottom is above ``clear`` (m; then ``wall`` alone)."""
+        if not np.isfinite(self.speed) or self.bottom(t) > clear:
+            return wall
+        v = np.zeros_like(self.x)
+        v[:, 1] = self.speed
+        if wall is None:
+            return Boundary(self.x + self.offset(t), self.psi, v)
+        return Boundary(np.concatenate([wall.x, self.x + self.offset(t)]),
+                        np.concatenate([wall.psi, self.psi]), np.concatenate([wall.v, v]))
+
+
+def gate(at: float, height: float, spacing: float, rho0: float, h: float, kernel: str = "cubic",
+         speed: float = np.inf, layers: int | None = None) -> Gate:
+    """A vertical gate ``height`` m tall whose face is the line ``x = at`` (m), with the
+    fluid at ``x < at``: ``layers`` columns (default :func:`layers_needed`) at
+    ``at + (k + 1/2) Δx``, rows at ``(j + 1/2) Δx`` from the floor, continuing the fluid's
+    lattice, each particle weighing ``ρ₀`` times :func:`lattice_volume`; lifted at ``speed``."""
+    layers = layers_needed(spacing, h, kernel) if layers is None else int(layers)
+    xs = at + (np.arange(layers) + 0.5) * spacing
+    ys = (np.arange(int(np.ceil(height / spacing))) + 0.5) * spacing
+    x = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2)
+    return Gate(x, rho0 * lattice_volume(spacing, h, kernel, 2), float(speed))

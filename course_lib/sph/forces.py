@@ -11,8 +11,10 @@
   and the bracket is symmetric: momentum is conserved to round-off.
 - :func:`viscosity_acceleration`: an artificial viscosity of kinematic viscosity ``ν``
   (Monaghan 2005): ``a_i = 2(d+2) ν Σ_j (m_j/ρ̄_ij) (v_ij·x_ij)/(r² + 0.01 h²) ∇_i W_ij``,
-  symmetric in the pair like the pressure force; against the wall (wall velocity 0) with
-  its own ``ν_w`` (0: free slip).
+  symmetric in the pair like the pressure force; against the wall particles (velocities
+  ``v_k``, 0 for a fixed wall) with its own ``ν_w`` (0: free slip). For a stricter
+  no-slip wall, :func:`no_slip_velocity` gives them Adami et al.'s (2012) velocities
+  ``2 v_w - ṽ_k``, the fluid's velocity near the wall mirrored about the wall's.
 
 Accelerations are ``(N, dim)`` in m/s². Core module: NumPy only.
 """
@@ -50,6 +52,34 @@ def wall_pressure(nb: Neighbourhood, p, rho, gravity, n_wall: int) -> np.ndarray
     return np.divide(top, bottom, out=np.zeros(n_wall), where=bottom > 0)
 
 
+def no_slip_velocity(nb: Neighbourhood, v, v_wall=None, n_wall: int | None = None) -> np.ndarray:
+    """Wall-particle velocities (K, dim) for a no-slip wall after Adami et al. (2012):
+    ``2 v_w,k - ṽ_k`` with ``ṽ_k = Σ_i v_i W_ik / Σ_i W_ik`` the fluid's velocity smoothed
+    at wall particle ``k`` (``v_w,k`` where no fluid is near). ``v`` (N, dim) m/s;
+    ``v_wall`` (K, dim) the walls' own velocities (None: at rest, then ``n_wall`` = K)."""
+    v = np.asarray(v, dtype=float)
+    n_wall = len(v_wall) if v_wall is not None else int(n_wall)
+    own = np.zeros((n_wall, v.shape[1])) if v_wall is None else np.asarray(v_wall, dtype=float)
+    bottom = np.bincount(nb.bk, nb.bw, minlength=n_wall)
+    near = bottom > 0
+    out = own.copy()
+    for k in range(v.shape[1]):
+        smooth = np.bincount(nb.bk, v[nb.bi, k] * nb.bw, minlength=n_wall)
+        out[near, k] = 2.0 * own[near, k] - smooth[near] / bottom[near]
+    return out
+
+
+def viscous_wall_velocity(nb: Neighbourhood, params, v, wall) -> np.ndarray | None:
+    """The wall particles' velocities (K, dim) in the viscous force under
+    ``params.wall_velocity``: their own (None for walls at rest) or :func:`no_slip_velocity`."""
+    if wall is None:
+        return None
+    own = wall.v if wall.moving else None
+    if params.wall_velocity == "no-slip":
+        return no_slip_velocity(nb, v, own, wall.n)
+    return own
+
+
 def pressure_acceleration(nb: Neighbourhood, mass, rho, p, psi=None, p_wall=None,
                           rho0: float = 1000.0) -> np.ndarray:
     """The symmetric SPH pressure acceleration (m/s², (N, dim)) of every fluid particle.
@@ -71,9 +101,10 @@ def pressure_acceleration(nb: Neighbourhood, mass, rho, p, psi=None, p_wall=None
 
 
 def viscosity_acceleration(nb: Neighbourhood, mass, rho, v, nu: float,
-                           nu_wall: float = 0.0, psi=None) -> np.ndarray:
+                           nu_wall: float = 0.0, psi=None, v_wall=None) -> np.ndarray:
     """Artificial viscosity (m/s², (N, dim)) of kinematic viscosity ``nu`` (m²/s) between
-    fluid particles and ``nu_wall`` against the walls (at rest); ``v`` (N, dim) in m/s."""
+    fluid particles and ``nu_wall`` against the walls; ``v`` (N, dim) in m/s, ``v_wall``
+    (K, dim) the wall particles' velocities (None: at rest)."""
     v = np.asarray(v, dtype=float)
     dim = v.shape[1]
     m = np.broadcast_to(np.asarray(mass, dtype=float), (nb.n,))
@@ -86,7 +117,8 @@ def viscosity_acceleration(nb: Neighbourhood, mass, rho, v, nu: float,
         pair = coef[:, None] * nb.gw
         a += scatter(nb.i, nb.j, pair * m[nb.j, None], nb.n, -pair * m[nb.i, None])
     if nu_wall and len(nb.bi):
-        vd = np.einsum("pk,pk->p", v[nb.bi], nb.bd)
+        rel = v[nb.bi] if v_wall is None else v[nb.bi] - np.asarray(v_wall, dtype=float)[nb.bk]
+        vd = np.einsum("pk,pk->p", rel, nb.bd)
         coef = 2 * (dim + 2) * nu_wall * vd / (nb.br**2 + eps) / rho[nb.bi]
         a += wall_sum(nb, (coef * np.asarray(psi, dtype=float)[nb.bk])[:, None] * nb.bgw)
     return a

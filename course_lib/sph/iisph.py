@@ -5,7 +5,9 @@ density at the end of the step equal ``ρ₀``. With the non-pressure accelerati
 (gravity, viscosity) the velocities are first predicted, ``v* = v + Δt a_np``, and the
 continuity equation predicts the density they lead to,
 
-    ρ*_i = ρ_i + Δt [Σ_j m_j (v*_i - v*_j)·∇W_ij + Σ_k ψ_k v*_i·∇W_ik].
+    ρ*_i = ρ_i + Δt [Σ_j m_j (v*_i - v*_j)·∇W_ij + Σ_k ψ_k (v*_i - v_k)·∇W_ik]
+
+(``v_k`` the wall particles' velocities, zero unless a wall moves).
 
 The pressure accelerations ``a^p(p)`` (:func:`~course_lib.sph.forces.pressure_acceleration`)
 change it by ``(A p)_i = Δt² [Σ_j m_j (a^p_i - a^p_j)·∇W_ij + Σ_k ψ_k a^p_i·∇W_ik]``, so the
@@ -30,7 +32,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .density import neighbourhood, summation_density
-from .forces import viscosity_acceleration
+from .forces import viscosity_acceleration, viscous_wall_velocity
 from .operators import PressureOperator
 from .params import Params
 
@@ -85,7 +87,9 @@ def step(x: np.ndarray, v: np.ndarray, params: Params, wall=None, dt: float | No
     nb = neighbourhood(x, params.h, params.kernel, wall)
     m = params.mass
     rho = summation_density(nb, m, psi)
-    a_np = viscosity_acceleration(nb, m, rho, v, params.viscosity, params.wall_viscosity, psi)
+    v_wall = None if wall is None or not wall.moving else wall.v
+    a_np = viscosity_acceleration(nb, m, rho, v, params.viscosity, params.wall_viscosity, psi,
+                                  viscous_wall_velocity(nb, params, v, wall))
     a_np += np.asarray(params.gravity, dtype=float)
     if dt is None:
         v_max = float(np.sqrt(np.max(np.einsum("nk,nk->n", v, v), initial=0.0)))
@@ -94,6 +98,8 @@ def step(x: np.ndarray, v: np.ndarray, params: Params, wall=None, dt: float | No
     op = PressureOperator(nb, m, rho, psi, params.gravity, params.rho0, params.wall_pressure)
     v_star = v + dt * a_np
     rho_star = rho + dt * op.divergence(v_star)
+    if v_wall is not None:                  # a moving wall particle k: v*_i - v_k in its term
+        rho_star -= dt * op.wall_flux(v_wall)
 
     def apply_A(p):
         return dt * dt * op.divergence(op.accel(p))

@@ -55,8 +55,10 @@ def cubic(r, h: float, dim: int = 2) -> np.ndarray:
     """Monaghan's (1992) cubic spline ``W(r, h)`` (1/m^dim), support ``2h``."""
     r, h, dim = _args(r, h, dim)
     q = np.abs(r) / h
-    inner = 1.0 - 1.5 * q**2 + 0.75 * q**3
-    outer = 0.25 * np.clip(2.0 - q, 0.0, None) ** 3
+    q2 = q * q
+    inner = 1.0 - 1.5 * q2 + 0.75 * q2 * q
+    rest = np.clip(2.0 - q, 0.0, None)
+    outer = 0.25 * rest * rest * rest
     return normalisation("cubic", h, dim) * np.where(q < 1.0, inner, outer)
 
 
@@ -76,8 +78,9 @@ def cubic_dr(r, h: float, dim: int = 2) -> np.ndarray:
     """``dW/dr`` of the cubic spline (1/m^(dim+1)); 0 at ``r = 0`` and beyond ``2h``."""
     r, h, dim = _args(r, h, dim)
     q = np.abs(r) / h
-    inner = -3.0 * q + 2.25 * q**2
-    outer = -0.75 * np.clip(2.0 - q, 0.0, None) ** 2
+    inner = -3.0 * q + 2.25 * q * q
+    rest = np.clip(2.0 - q, 0.0, None)
+    outer = -0.75 * rest * rest
     return normalisation("cubic", h, dim) / h * np.where(q < 1.0, inner, outer)
 
 

@@ -25,13 +25,24 @@ import scipy.sparse as sp
 from .density import Neighbourhood
 
 
-def _matrices(rows, cols, columns: list[np.ndarray], shape) -> list[sp.csr_array]:
-    """CSR matrices sharing one sparsity pattern, one per data array (no duplicates): the
-    entries grouped by row with a stable sort, so no COO conversion is needed."""
-    perm = np.argsort(rows, kind="stable")
+def _matrices(rows, cols, columns: list[np.ndarray], shape) -> tuple[list[sp.csr_array], sp.csr_array]:
+    """CSR matrices sharing one sparsity pattern, one per data array (no duplicates), and
+    the same stacked one above the other (``len(columns) · shape[0]`` rows): the entries
+    grouped by row with a stable sort (a radix sort on small row numbers), so no COO
+    conversion is needed. The stacked matrix multiplies a vector by every one at once,
+    with each row's sum in the same order."""
+    rows = np.asarray(rows)
+    key = rows.astype(np.uint16) if shape[0] <= np.iinfo(np.uint16).max else rows
+    perm = np.argsort(key, kind="stable")
     indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=shape[0]))])
     indices = np.asarray(cols)[perm]
-    return [sp.csr_array((c[perm], indices, indptr), shape=shape) for c in columns]
+    data = [c[perm] for c in columns]
+    single = [sp.csr_array((d, indices, indptr), shape=shape) for d in data]
+    nnz = len(indices)
+    stacked_ptr = np.concatenate([indptr[:-1] + k * nnz for k in range(len(data))] + [[len(data) * nnz]])
+    stacked = sp.csr_array((np.concatenate(data), np.tile(indices, len(data)), stacked_ptr),
+                           shape=(len(data) * shape[0], shape[1]))
+    return single, stacked
 
 
 class PressureOperator:
@@ -49,7 +60,7 @@ class PressureOperator:
         self.n, self.rho0, self.rho2 = n, float(rho0), np.asarray(rho, dtype=float) ** 2
         rows, cols = np.concatenate([nb.i, nb.j]), np.concatenate([nb.j, nb.i])
         data = [np.concatenate([m[nb.j] * nb.gw[:, k], -m[nb.i] * nb.gw[:, k]]) for k in range(dim)]
-        self.G = _matrices(rows, cols, data, (n, n))
+        self.G, self._G_stacked = _matrices(rows, cols, data, (n, n))
         self.g = np.stack([np.bincount(rows, d, minlength=n) for d in data], axis=1)   # row sums
         g2 = np.einsum("pk,pk->p", nb.gw, nb.gw)
         self.grad2 = m * (np.bincount(nb.i, m[nb.j] * g2, minlength=n)
@@ -60,11 +71,13 @@ class PressureOperator:
             psi = np.asarray(psi, dtype=float)
             K = len(psi)
             wall = [psi[nb.bk] * nb.bgw[:, k] for k in range(dim)]
-            self.B = _matrices(nb.bi, nb.bk, wall, (n, K))
+            self.B, self._B_stacked = _matrices(nb.bi, nb.bk, wall, (n, K))
+            self._pairs, self._wall_terms = nb.bi, wall
             self.w = np.stack([np.bincount(nb.bi, d, minlength=n) for d in wall], axis=1)
             total = np.bincount(nb.bk, nb.bw, minlength=K)
             share = np.divide(nb.bw, total[nb.bk], out=np.zeros_like(nb.bw), where=total[nb.bk] > 0)
-            self.E = sp.csr_array((share, (nb.bk, nb.bi)), shape=(K, n))
+            self.E = _matrices(nb.bk, nb.bi, [share], (K, n))[0][0]
+            self._share = share
             head = -np.asarray(rho, dtype=float)[nb.bi] * (nb.bd @ np.asarray(gravity, dtype=float))
             self.head = np.bincount(nb.bk, share * head, minlength=K)
 
@@ -76,13 +89,14 @@ class PressureOperator:
         """The pressure acceleration (m/s², (N, dim)) of the pressures ``p`` (Pa, (N,))."""
         p = np.asarray(p, dtype=float)
         q = p / self.rho2
-        a = np.empty((self.n, len(self.G)))
-        p_wall = None if self.B is None or self.mirrored else self.wall_pressures(p) / self.rho0**2
-        for k, Gk in enumerate(self.G):
-            a[:, k] = -(self.g[:, k] * q + Gk @ q)
-            if self.B is not None:
-                wall = 2.0 * self.w[:, k] * q if self.mirrored else self.w[:, k] * q + self.B[k] @ p_wall
-                a[:, k] -= wall
+        Gq = (self._G_stacked @ q).reshape(-1, self.n).T          # (G_k q) for every axis k
+        a = -(self.g * q[:, None] + Gq)
+        if self.B is not None:
+            if self.mirrored:
+                a -= 2.0 * self.w * q[:, None]
+            else:
+                p_wall = self.wall_pressures(p) / self.rho0**2
+                a -= self.w * q[:, None] + (self._B_stacked @ p_wall).reshape(-1, self.n).T
         return a
 
     def divergence(self, u) -> np.ndarray:
@@ -91,6 +105,16 @@ class PressureOperator:
         out = np.einsum("nk,nk->n", u, self.g + self.w)
         for k, Gk in enumerate(self.G):
             out -= Gk @ u[:, k]
+        return out
+
+    def wall_flux(self, v_wall) -> np.ndarray:
+        """``Σ_k ψ_k v_k·∇W_ik`` (N,) for wall velocities ``v_wall`` (K, dim): what moving
+        walls take from :meth:`divergence`, whose wall term assumes them at rest."""
+        out = np.zeros(self.n)
+        if self.B is not None:
+            v_wall = np.asarray(v_wall, dtype=float)
+            for k, Bk in enumerate(self.B):
+                out += Bk @ v_wall[:, k]
         return out
 
     def diagonal(self, dt: float) -> np.ndarray:
@@ -104,7 +128,6 @@ class PressureOperator:
                 D -= 2.0 * self.w / self.rho2[:, None]
             else:   # p_i's share in the pressure of each wall particle near it
                 D -= self.w / self.rho2[:, None]
-                share = self.E.T.tocsr()
-                for k, Bk in enumerate(self.B):
-                    D[:, k] -= (Bk.multiply(share)).sum(axis=1) / self.rho0**2
+                for k, wall in enumerate(self._wall_terms):      # Σ_k B[i, k] E[k, i]
+                    D[:, k] -= np.bincount(self._pairs, wall * self._share, minlength=self.n) / self.rho0**2
         return dt * dt * (np.einsum("nk,nk->n", D, self.g + self.w) - self.grad2 / self.rho2)

@@ -20,6 +20,8 @@ from .kernels import SUPPORT, check_name
 
 #: How wall particles get their pressure (see :mod:`course_lib.sph.forces`).
 WALL_PRESSURES = ("extrapolated", "mirrored")
+#: Which velocity a wall particle has in the viscous force (see :mod:`course_lib.sph.forces`).
+WALL_VELOCITIES = ("own", "no-slip")
 
 
 @dataclass(frozen=True)
@@ -35,6 +37,9 @@ class Params:
     implicit pressure solve stops at (IISPH: 1e-3 is 0.1 %). omega : its relaxation.
     max_iterations : its cap. wall_pressure : ``"extrapolated"`` (Adami et al. 2012)
     or ``"mirrored"`` (a wall particle takes the fluid particle's pressure).
+    wall_velocity : the wall particles' velocity in the viscous force, ``"own"`` (their
+    own: zero for a fixed wall) or ``"no-slip"`` (Adami et al. 2012: ``2 v_w - ṽ``, the
+    fluid's velocity near the wall mirrored).
     speed_limit : a run whose fastest particle passes it (m/s) has blown up and stops.
     """
 
@@ -52,6 +57,7 @@ class Params:
     omega: float = 0.5
     max_iterations: int = 500
     wall_pressure: str = "extrapolated"
+    wall_velocity: str = "own"
     speed_limit: float = np.inf
 
     def __post_init__(self):
@@ -67,6 +73,9 @@ class Params:
         if self.wall_pressure not in WALL_PRESSURES:
             raise ValueError(f"unknown wall_pressure {self.wall_pressure!r}; valid choices are: "
                              f"{', '.join(WALL_PRESSURES)}")
+        if self.wall_velocity not in WALL_VELOCITIES:
+            raise ValueError(f"unknown wall_velocity {self.wall_velocity!r}; valid choices are: "
+                             f"{', '.join(WALL_VELOCITIES)}")
         if not 0 < self.omega <= 1:
             raise ValueError(f"omega must lie in (0, 1], got {self.omega!r}")
         if not (isinstance(self.max_iterations, int) and self.max_iterations >= 1):

@@ -6,6 +6,8 @@
   ``a`` and height ``2a`` (Martin & Moyce's n² = 2) against the back wall of a long
   tank. :func:`dam_break` returns Martin & Moyce's dimensionless surge-front position
   ``Z = z/a`` against ``T = t √(2g/a)``, with ``z`` the front's distance from the back wall.
+  The column is released all at once, or by a gate (:func:`~course_lib.sph.boundary.gate`)
+  lifted at a given speed.
 - :data:`MARTIN_MOYCE`: their measured front (n² = 2, a = 2.25 in), and
   :func:`front_errors`, a run's front against it (with a release delay); :func:`ritter_front`:
   Ritter's (1892) shallow-water front, which advances at ``2√(g h₀)``: ``Z = 1 + 2T``
@@ -105,13 +107,18 @@ def column_spacing(n_particles: int, a: float = 1.0) -> tuple[float, int]:
 
 
 def dam_break_simulation(n_particles: int = 1250, method: str = "iisph", a: float = 1.0,
-                         tank: float = 6.0, **changes) -> Simulation:
+                         tank: float = 6.0, gate_speed: float | None = None, **changes) -> Simulation:
     """Martin & Moyce's n² = 2 column: ``a × 2a`` (m) of water at rest against the back
-    wall (x = 0) of a tank ``tank · a`` long, released at t = 0."""
+    wall (x = 0) of a tank ``tank · a`` long, released at t = 0: all at once
+    (``gate_speed=None``), or by a gate at ``x = a`` lifted at ``gate_speed`` (m/s)."""
     spacing, _ = column_spacing(n_particles, a)
     params = liquid(spacing, 2.0 * a, **changes)
     wall = boundary.box(tank * a, 2.5 * a, spacing, params.rho0, params.h, params.kernel)
-    return Simulation(lattice(a, 2.0 * a, spacing), params, wall, method=method)
+    barrier = None
+    if gate_speed is not None:
+        barrier = boundary.gate(a, 2.5 * a, spacing, params.rho0, params.h, params.kernel,
+                                speed=gate_speed)
+    return Simulation(lattice(a, 2.0 * a, spacing), params, wall, method=method, gate=barrier)
 
 
 def front(x: np.ndarray, spacing: float) -> float:
@@ -125,7 +132,10 @@ def dam_break(n_particles: int = 1250, t_end: float | None = None, method: str =
     """Run Martin & Moyce's dam break and return ``(T, Z)`` after every step (and at 0).
 
     ``t_end`` (s) defaults to ``T = 3.5``, i.e. ``3.5 √(a/(2g))``; ``T = t √(2g/a)``,
-    ``Z = z/a``. Raises ``RuntimeError`` if the run turns unstable.
+    ``Z = z/a``. ``changes`` go to :func:`dam_break_simulation`: ``gate_speed`` (m/s)
+    releases the column by a gate lifted at that speed instead of all at once, and any
+    :class:`~course_lib.sph.params.Params` field (e.g. ``wall_velocity="no-slip"``) changes
+    the liquid. Raises ``RuntimeError`` if the run turns unstable.
     """
     sim = dam_break_simulation(n_particles, method, a, **changes)
     t_end = 3.5 * np.sqrt(a / (2 * G)) if t_end is None else float(t_end)

@@ -8,7 +8,10 @@ number of pairs, the density error at the start of the step (mean and largest
 ``max(ρ/ρ₀ - 1, 0)``: the compression; a free surface's lower density is not an error) and
 the fastest particle's speed at its end.
 A run that turns non-finite, or whose fastest particle passes ``params.speed_limit``,
-stops with :attr:`Simulation.message` saying where.
+stops with :attr:`Simulation.message` saying where. An optional
+:class:`~course_lib.sph.boundary.Gate` joins the walls, lifted as time goes on, until its
+lowest particle is a support radius above the highest fluid particle; while it touches the
+fluid, no step lets it move more than ``λ Δx``.
 Core module.
 """
 
@@ -39,7 +42,8 @@ class Frames:
 @dataclass
 class Simulation:
     """An SPH liquid at positions ``x`` (N, dim, m) with velocities ``v`` (m/s, default 0)
-    between the walls ``wall`` (:class:`~course_lib.sph.boundary.Boundary` or None)."""
+    between the walls ``wall`` (:class:`~course_lib.sph.boundary.Boundary` or None) and
+    behind a ``gate`` (:class:`~course_lib.sph.boundary.Gate` or None) lifted from t = 0."""
 
     x: np.ndarray
     params: Params
@@ -47,6 +51,7 @@ class Simulation:
     v: np.ndarray | None = None
     method: str = "iisph"
     t: float = 0.0
+    gate: object = None
     p: np.ndarray = field(init=False)
     stable: bool = field(init=False, default=True)
     message: str = field(init=False, default="")
@@ -71,6 +76,20 @@ class Simulation:
         """Number of fluid particles."""
         return len(self.x)
 
+    def walls(self):
+        """The walls as they are now: :attr:`wall`, with the gate's particles while the
+        gate still reaches the fluid."""
+        if self.gate is None:
+            return self.wall
+        top = float(np.max(self.x[:, 1], initial=0.0)) + self.params.support
+        return self.gate.walls(self.wall, self.t, clear=top)
+
+    def _gate_dt(self, walls) -> float:
+        """The longest step (s) that moves a gate in contact by at most ``λ Δx``."""
+        if self.gate is None or walls is self.wall:
+            return np.inf
+        return self.params.cfl * self.params.spacing / self.gate.speed
+
     @property
     def steps(self) -> int:
         """Steps taken so far."""
@@ -85,11 +104,13 @@ class Simulation:
             return {}
         if dt is not None and not (np.isfinite(dt) and dt > 0):
             raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
+        walls = self.walls()
+        dt_max = min(dt_max, self._gate_dt(walls))
         with np.errstate(over="ignore", invalid="ignore"):
             if self.method == "iisph":
-                x, v, info = iisph.step(self.x, self.v, self.params, self.wall, dt, dt_max, self.p)
+                x, v, info = iisph.step(self.x, self.v, self.params, walls, dt, dt_max, self.p)
             else:
-                x, v, info = wcsph.step(self.x, self.v, self.params, self.wall, dt, dt_max)
+                x, v, info = wcsph.step(self.x, self.v, self.params, walls, dt, dt_max)
         speed = np.sqrt(np.max(np.einsum("nk,nk->n", v, v), initial=0.0))
         if not (np.all(np.isfinite(x)) and np.isfinite(speed)) or speed > self.params.speed_limit:
             self.stable = False
@@ -140,9 +161,8 @@ class Simulation:
         """The method's step for the present speeds, with gravity as the acceleration bound."""
         v_max = float(np.sqrt(np.max(np.einsum("nk,nk->n", self.v, self.v), initial=0.0)))
         g = float(np.linalg.norm(self.params.gravity))
-        if self.method == "iisph":
-            return iisph.cfl_step(self.params, v_max, g)
-        return wcsph.cfl_step(self.params, v_max, g)
+        step = iisph.cfl_step if self.method == "iisph" else wcsph.cfl_step
+        return min(step(self.params, v_max, g), self._gate_dt(self.walls()))
 
     def _frame(self):
         return (self.t, self.x.copy(), np.linalg.norm(self.v, axis=1), self.p.copy())

@@ -26,7 +26,13 @@ from scipy.optimize import minimize
 
 from .boundary import lattice_volume
 from .density import Neighbourhood, neighbourhood, summation_density
-from .forces import pressure_acceleration, tait_pressure, viscosity_acceleration, wall_pressure
+from .forces import (
+    pressure_acceleration,
+    tait_pressure,
+    viscosity_acceleration,
+    viscous_wall_velocity,
+    wall_pressure,
+)
 from .kernels import gradient
 from .params import Params
 
@@ -80,7 +86,7 @@ def accelerations(nb: Neighbourhood, params: Params, v: np.ndarray, wall=None):
         p_wall = wall_pressure(nb, p, rho, params.gravity, wall.n)
     a = pressure_acceleration(nb, params.mass, rho, p, psi, p_wall, params.rho0)
     a += viscosity_acceleration(nb, params.mass, rho, v, params.viscosity,
-                                params.wall_viscosity, psi)
+                                params.wall_viscosity, psi, viscous_wall_velocity(nb, params, v, wall))
     a += np.asarray(params.gravity, dtype=float)
     return rho, p, a
 
