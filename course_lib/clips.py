@@ -16,6 +16,7 @@ Imports: matplotlib (its animation writers), tqdm, imageio-ffmpeg and Pillow whe
 
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 
 import matplotlib
@@ -46,8 +47,8 @@ def frame_count(anim: animation.Animation) -> int | None:
 
 
 def save_clip(anim: animation.Animation, path, *, fps: float | None = None, dpi: float | None = None,
-              height: int | None = None, crf: int = 20, preset: str = "veryfast",
-              progress: bool = True) -> Path:
+              height: int | None = None, frames: int | None = None, crf: int = 20,
+              preset: str = "veryfast", progress: bool = True) -> Path:
     """Save ``anim`` as ``path`` (``.mp4`` or ``.gif``) and return the path.
 
     Parameters
@@ -64,6 +65,8 @@ def save_clip(anim: animation.Animation, path, *, fps: float | None = None, dpi:
     height : int, optional
         Frame height in pixels, e.g. 720 (the dpi is chosen for it; the width follows
         the figure's aspect).
+    frames : int, optional
+        Write only the first ``frames`` frames (a quick preview); default all.
     crf, preset : int, str
         H.264 quality (0-51, lower is better; 20 is visually clean) and x264's speed preset
         (``veryfast``: plots compress well, and encoding stays a small part of the time).
@@ -88,6 +91,8 @@ def save_clip(anim: animation.Animation, path, *, fps: float | None = None, dpi:
         dpi = height / anim._fig.get_figheight()
     if dpi is not None and not dpi > 0:
         raise ValueError(f"dpi must be > 0, got {dpi!r}")
+    if frames is not None and not (isinstance(frames, int) and not isinstance(frames, bool) and frames >= 1):
+        raise ValueError(f"frames must be a whole number of frames >= 1, got {frames!r}")
     if suffix == ".mp4":
         ffmpeg_exe()
         x264 = ["-vcodec", "libx264", "-preset", preset, "-crf", str(crf)]  # after matplotlib's "h264"
@@ -104,10 +109,18 @@ def save_clip(anim: animation.Animation, path, *, fps: float | None = None, dpi:
         # the time of a two-panel clip); the frames then also keep still axes.
         fig.canvas.draw()
         fig.set_layout_engine("none")
+    total = frame_count(anim)
+    if frames is not None:
+        # Animation.save draws whatever new_saved_frame_seq yields: the first `frames` of it
+        every = anim.new_saved_frame_seq
+        anim.new_saved_frame_seq = lambda: itertools.islice(every(), frames)
+        total = frames if total is None else min(total, frames)
     try:
-        with tqdm(total=frame_count(anim), unit="frame", desc=path.name, disable=not progress) as bar:
+        with tqdm(total=total, unit="frame", desc=path.name, disable=not progress) as bar:
             anim.save(str(path), writer=writer, dpi=dpi, progress_callback=lambda i, n: bar.update(1))
     finally:
+        if frames is not None:
+            del anim.new_saved_frame_seq
         if engine is not None and fig.get_layout_engine() is not engine:
             fig.set_layout_engine(engine)
     return path

@@ -70,15 +70,30 @@ def test_the_progress_bar_counts_frames(tmp_path, capsys):
     (lambda a, p: save_clip(a, p / "x.mp4", dpi=50, height=100), "not both"),
     (lambda a, p: save_clip(a, p / "x.mp4", height=10.5), "whole number of pixels"),
     (lambda a, p: save_clip("not an animation", p / "x.mp4"), "matplotlib.animation.Animation"),
+    (lambda a, p: save_clip(a, p / "x.mp4", frames=0), "frames must be a whole number"),
+    (lambda a, p: save_clip(a, p / "x.mp4", frames=2.0), "frames must be a whole number"),
 ])
 def test_bad_requests_name_the_argument(tmp_path, call, message):
     with pytest.raises((ValueError, TypeError), match=message):
         call(wave(2), tmp_path)
 
 
+def test_frames_writes_the_first_frames_only_and_leaves_the_animation_whole(tmp_path, no_system_ffmpeg):
+    anim = wave(12)
+    drawn = []
+    anim._func = (lambda f, draw=anim._func: (drawn.append(f), draw(f))[1])
+    info = clip_info(save_clip(anim, tmp_path / "first.mp4", fps=8, frames=5, progress=False))
+    assert info["frames"] == 5 and info["seconds"] == pytest.approx(5 / 8, abs=1 / 8)
+    assert drawn[-5:] == [0, 1, 2, 3, 4]
+    assert clip_info(save_clip(anim, tmp_path / "all.gif", fps=8, progress=False))["frames"] == 12
+    assert clip_info(save_clip(wave(3), tmp_path / "few.gif", frames=10, progress=False))["frames"] == 3
+
+
 def test_registry_has_every_notebook_and_finds_a_new_lessons_showcase(tmp_path, monkeypatch):
     table = showcase.showcases()
-    assert {f"{n:02d}" for n in range(1, 12)} <= set(table)
+    assert {f"{n:02d}" for n in range(1, 15)} <= set(table)
+    assert [table[n].name for n in ("12", "13", "14")] == [
+        "12_constraints_and_large_steps", "13_sph_liquids", "14_rigid_bodies"]
     assert table["08"].name == "08_hair_chains"
     (tmp_path / "nb99_demo_topic.py").write_text("def showcase_animation():\n    return None\n")
     (tmp_path / "nb98_no_showcase.py").write_text("def other():\n    pass\n")
@@ -108,6 +123,28 @@ def test_each_notebooks_showcase_becomes_a_clip(number, tmp_path, no_system_ffmp
     width, height = fig.get_size_inches() * 40
     assert abs(info["width"] - width) <= 2 and abs(info["height"] - height) <= 2
     assert info["seconds"] == pytest.approx(3 * anim._interval / 1000, abs=anim._interval / 1000)
+
+
+#: Small builds of the showcases that live in their own lessons (notebooks 12-14): the
+#: options of each builder that keep the run short (12's drape has none: its full run is
+#: built, 3.4 s, and only 3 frames are written).
+SMALL = {"12": {}, "13": {"n_particles": 200, "seconds": 0.1, "fps": 30.0, "simulated": 0.05},
+         "14": {"t_end": 0.0015}}
+
+
+@pytest.mark.parametrize("number", sorted(SMALL))
+def test_the_project_starters_showcases_become_clips(number, tmp_path, no_system_ffmpeg):
+    """Notebooks 12-14's own showcases, built small and written 3 frames at 40 dpi: the
+    clip reads back with the frames, size and duration asked for."""
+    entry = showcase.showcases()[number]
+    assert entry.module.startswith(f"course_lib.lessons.nb{number}_")
+    anim = entry.build(**SMALL[number])
+    width, height = anim._fig.get_size_inches() * 40
+    info = clip_info(save_clip(anim, tmp_path / f"{entry.name}.mp4", dpi=40, frames=3, progress=False))
+    assert info["frames"] == 3 and info["codec"] == "h264"
+    assert abs(info["width"] - width) <= 2 and abs(info["height"] - height) <= 2
+    assert info["seconds"] == pytest.approx(3 * anim._interval / 1000, abs=anim._interval / 1000)
+    assert width / height == pytest.approx(16 / 9, rel=0.01)     # every project clip is 16:9
 
 
 def test_clips_command_line(tmp_path, capsys):

@@ -256,11 +256,12 @@ def single_ball_rocking() -> float:
     return 2.0 * np.pi * float(np.sqrt(inertia_ball / (m * B)))
 
 
-def showcase_animation():
+def showcase_animation(t_end: float = 0.1, every: int = 10):
     """The clip of this notebook: six magnets snapping into a cluster, in slow motion
-    (0.1 s of physics over 6.7 s, 200 frames at 30 fps, 16:9)."""
+    (``t_end`` = 0.1 s of physics over 6.7 s, a frame every ``every`` steps of 50 µs:
+    201 frames at 30 fps, 16:9). A smaller ``t_end`` makes a short test clip."""
     from .nb14_drawings import animate_magnets
 
-    run = magnet_scene(n=6, seed=3, t_end=0.1, every=10, spread=0.024)
+    run = magnet_scene(n=6, seed=3, t_end=t_end, every=every, spread=0.024)
     return animate_magnets(run, MAGNET["radius"], figsize=(8.0, 4.5), fps=30.0,
                            title="six NdFeB magnets snapping together, 1/67 real speed")
