@@ -86,6 +86,10 @@ class SpringSet:
         Per slot: rest length (m), stiffness (N/m), damping (N s/m), inverse masses of the
         ``i`` (``lo``) and ``j`` (``hi``) ends and their sum (1/kg); 0 where unused.
     used : ndarray of bool
+    uniform : bool
+        In every used slot the two ends weigh the same, or one of them is pinned.
+    held : ndarray of int
+        The pinned particles (``w = 0``) that are ends of used slots.
     """
 
     def __init__(self, spring: np.ndarray, network, inverse_mass: np.ndarray, band=None,
@@ -104,6 +108,12 @@ class SpringSet:
         self.wj = np.where(self.used, inverse_mass[np.minimum(hi, inverse_mass.size - 1)], 0.0)
         self.w = self.wi + self.wj
         self.symmetric = bool(np.array_equal(self.wi, self.wj))   # equal masses, no pin
+        # Equal masses but for pinned ends (w = 0): a fused sweep may move both ends by the
+        # free end's 1/m and put the pinned ends back (see XPBD._sweep).
+        self.uniform = bool(np.all(~self.used | (self.wi == self.wj) | (self.wi == 0)
+                                   | (self.wj == 0)))
+        self.held = np.unique(np.r_[lo[self.used & (self.wi == 0)],
+                                    hi[self.used & (self.wj == 0)]]).astype(np.intp)
         self.shape = spring.shape
         self._views: dict = {}
 

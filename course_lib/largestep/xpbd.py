@@ -26,7 +26,14 @@ after many sweeps: unconverged, it is far softer than its springs. Small steps (
 of length ``h`` is ``substeps`` steps of ``h/substeps``, each with ``iterations`` sweeps)
 help most per sweep (Macklin et al. 2019); long range attachments
 (:class:`~.attachments.LongRangeAttachments`, ``tethers=``) carry the pull of the pins to
-every particle in one operation.
+every particle in one operation. (:class:`~.pbd.PBD`, in :mod:`.pbd`, sweeps the same sets
+with PBD's rule.)
+
+On a cloth of equal masses a sweep is a dozen whole-array operations per set: the free
+ends' ``1/m`` is folded into the coefficients (a pinned end is moved like a free one and
+put back), the positions at the start of the small step sit below the current ones in one
+array (one subtraction gives every spring's ``d`` and ``d₀``), and a band of offset 2 is
+swept as two strided rows.
 
 Core module: imports NumPy and the package's :mod:`.base`, :mod:`.constraints` and
 :mod:`.attachments`.
@@ -114,6 +121,8 @@ class XPBD(SpringSolver):
         if h == self._h:
             return
         self._h = h
+        for key in [key for key in self._buffers if key[0] == "bound"]:
+            del self._buffers[key]                  # its rows hold the old coefficients
         for q in self.springs.sets:
             k = np.where(q.used, q.k, 1.0)
             alpha = 1.0 / (k * h * h)
@@ -121,38 +130,82 @@ class XPBD(SpringSolver):
             den = np.where(q.used, 1.0 / ((1.0 + gamma) * np.where(q.used, q.w, 1.0) + alpha), 0.0)
             q.damped = self.damping and bool(q.c.any())
             q.a, q.b, q.g, q.e = den * (1.0 + gamma), den * q.rest, den * gamma, den * alpha
-            # The fused sweep's coefficients already times 1/m of the lo end (both ends where
-            # their masses are equal): one product fewer per set.
-            q.folded = q.symmetric and self.iterations == 1
-            scale = q.wi if q.folded else 1.0
+            # The fused sweep's coefficients already times the free ends' common 1/m (a
+            # cloth of equal masses): one product fewer per set, and a pinned end, moved
+            # like a free one, is put back after the set.
+            q.folded = q.uniform and self.iterations == 1
+            scale = np.maximum(q.wi, q.wj) if q.folded else 1.0
             q.coefficients = (q.a * scale, q.b * scale, q.g * scale)
 
-    def _bound(self, buffer: np.ndarray, start: bool = False) -> list[tuple]:
-        """Per set ``(q, pair, work, lo, hi)``: ``pair[0]`` the spring vectors, ``pair[1]``
-        those at the start of the small step, and the ends' views in ``buffer``."""
-        key = ("bound", id(buffer), buffer.shape[0])
+    def _fused(self, q) -> bool:
+        """Whether :meth:`_sweep` treats set ``q`` fused (a band set, one sweep per step)."""
+        return q.ends is None and self.iterations == 1
+
+    def _bound(self, buffer: np.ndarray, start: np.ndarray) -> list[tuple]:
+        """Rows ``(q, pair, scalars, work, lo, hi, starts, per_slot)`` for sweeps of
+        ``buffer`` in a small step that began at ``start``: ``pair[0]`` for the spring
+        vectors, ``pair[1]`` for those at the start, two per-slot arrays, a scratch like
+        ``pair[0]``, the ends' views in ``buffer`` (``None`` for a gathered set) and, for a
+        fused row, ``starts``: the ends' views in ``start`` and ``None``, or the ends' views
+        in the stacked ``(buffer, start)`` and ``pair`` as ``(2 dim, …)``. A fused set's
+        scratch is a view of arrays shared by all sets (one set at a time uses it, and a
+        small working set stays in cache); another set keeps its own ``pair``
+        (``pair[1]``, its ``d₀``, lives through the step's sweeps).
+        ``per_slot`` holds a fused row's coefficients ``a, b, g`` and ``wi, wj``; a band
+        set may take several rows."""
+        key = ("bound", id(buffer), id(start), buffer.shape[0])
         if key not in self._buffers:
             dim = buffer.shape[0]
+            size = max(q.spring.size for q in self.springs.sets)
+            shared = [np.zeros(2 * dim * size), np.zeros(2 * size), np.zeros(dim * size)]
             rows = []
-            for q, _, work, lo, hi in self.springs.bound(buffer):
-                pair_key = ("pair", id(q), dim)
-                if pair_key not in self._buffers:
-                    self._buffers[pair_key] = np.zeros((2, dim, *q.shape))
-                rows.append((q, self._buffers[pair_key], work, lo, hi))
+            # ``buffer`` and ``start`` the two halves of one array (as :meth:`step` makes
+            # them): one subtraction gives a set's ``d`` and ``d₀`` together.
+            both = self._buffers.get(("stacked", dim))
+            both = self.springs.bound(both[0]) if both is not None and both[1] is buffer \
+                and both[2] is start else [(None,) * 5] * len(self.springs.sets)
+            for (q, _, work, lo, hi), (_, _, _, slo, shi), (_, _, _, lo2, hi2) in zip(
+                    self.springs.bound(buffer), self.springs.bound(start), both, strict=True):
+                if not self._fused(q):
+                    own = ("pair", id(q), dim)
+                    if own not in self._buffers:
+                        self._buffers[own] = (np.zeros((2, dim, *q.shape)), np.zeros((2, *q.shape)))
+                    rows.append((q, *self._buffers[own], work, lo, hi, None, None))
+                    continue
+                # A band of offset o > 1 along the long axis: one row per residue r < o,
+                # each end a 1-D strided view (an operation over the 2-D view would run
+                # its inner loop over the short axis).
+                a, b, g = q.coefficients
+                per_slot = (a, b, np.stack((np.ones(q.shape), g)), q.wi, q.wj)
+                parts = [(slice(None),)] if not q.band[3] or q.band[0] == 1 else \
+                    [(r,) for r in range(q.band[0])]
+                for part in parts:
+                    shape = q.spring[part].shape
+                    m = int(np.prod(shape))
+                    at = (slice(None), *part)
+                    pair = shared[0][:2 * dim * m].reshape(2, dim, *shape)
+                    starts = (slo[at], shi[at], None) if lo2 is None else \
+                        (lo2[at], hi2[at], pair.reshape(2 * dim, *shape))
+                    rows.append((q, pair, shared[1][:2 * m].reshape(2, *shape),
+                                 shared[2][:dim * m].reshape(dim, *shape),
+                                 lo[at], hi[at], starts,
+                                 tuple(c[(slice(None), *part)] if c.ndim > q.spring.ndim
+                                       else c[part] for c in per_slot)))
             self._buffers[key] = rows
         return self._buffers[key]
 
     def _begin(self, start: np.ndarray) -> None:
-        """Per small step, before the sweeps: reset the multipliers, note each spring's
-        vector ``d₀`` at the start (``start`` is the position buffer)."""
-        for q, pair, _, lo, hi in self._bound(start):
+        """Per small step, before the sweeps: reset the multipliers, note where the step
+        starts (``start`` is the position buffer; a fused set takes each spring's vector
+        ``d₀`` there as it goes, the others store it now)."""
+        self._start = start
+        for q in self.springs.sets:
             q.lam = np.zeros(q.shape) if self.iterations > 1 else None   # λ = 0: no α̃ λ
-            if q.damped:
-                q.d0 = pair[1]
-                if lo is None:
-                    q.difference(start, pair[1])
-                else:
-                    np.subtract(lo, hi, out=pair[1])
+            if q.damped and not self._fused(q):
+                key = ("d0", id(q), start.shape[0])
+                if key not in self._buffers:
+                    self._buffers[key] = np.zeros((start.shape[0], *q.shape))
+                q.d0 = q.difference(start, self._buffers[key])
 
     def _rule(self, q, d, squared):
         """``f = -Δλ/ℓ`` of every slot of one set (:func:`delta_lambda`, rearranged): the
@@ -170,32 +223,52 @@ class XPBD(SpringSolver):
 
     def _sweep(self, buffer: np.ndarray) -> None:
         """One sweep of :meth:`_rule` over the sets, fused: ``ℓ²`` and ``d·d₀`` in one
-        product, the lo end's ``1/m`` folded into the coefficients where both ends weigh
-        the same (a cloth's springs away from the pins)."""
-        for q, pair, work, lo, hi in self._bound(buffer):
-            if lo is None or q.lam is not None:
+        product, the free ends' ``1/m`` folded into the coefficients where the ends weigh
+        the same or one is pinned (a cloth of equal masses; the pinned end is put back)."""
+        start = self._start
+        for q, pair, scalars, work, lo, hi, starts, per_slot in self._bound(buffer, start):
+            if per_slot is None:
                 d = q.difference(buffer, pair[0])
                 q.move(buffer, d, self._rule(q, d, np.einsum("k...,k...->...", d, d)), work)
                 continue
-            d = np.subtract(lo, hi, out=pair[0])
+            d = pair[0]
+            a, b, g, wi, wj = per_slot
             if q.damped:
-                squared, dd0 = np.einsum("k...,tk...->t...", d, pair)
+                if starts[2] is None:                           # d, then d₀ at the start
+                    np.subtract(lo, hi, out=d)
+                    np.subtract(starts[0], starts[1], out=pair[1])
+                else:                                           # both at once
+                    np.subtract(starts[0], starts[1], out=starts[2])
+                length, t = np.einsum("k...,tk...,t...->t...", d, pair, g, out=scalars)
+            else:                                               # ℓ², g d·d₀ (g = (1, g))
+                np.subtract(lo, hi, out=d)
+                length, t = np.einsum("k...,k...->...", d, d, out=scalars[0]), scalars[1]
+            length += TINY
+            np.sqrt(length, out=length)                         # ℓ
+            if q.damped:                                        # f = a - (b + g d·d₀/ℓ)/ℓ
+                t /= length
+                t += b
+                t /= length
             else:
-                squared = np.einsum("k...,k...->...", d, d)
-            a, b, g = q.coefficients
-            squared += TINY
-            inv2 = np.divide(1.0, squared, out=squared)
-            f = a - b * np.sqrt(inv2)
-            if q.damped:
-                dd0 *= g
-                dd0 *= inv2
-                f -= dd0
+                np.divide(b, length, out=t)
+            f = np.subtract(a, t, out=t)
             if q.folded:
                 lo -= np.multiply(d, f, out=work)
                 hi += work
+                if q.held.size:                         # pins back where they were
+                    buffer[:, q.held] = start[:, q.held]
             else:
-                lo -= np.multiply(d, f * q.wi, out=work)
-                hi += np.multiply(d, f * q.wj, out=work)
+                lo -= np.multiply(d, f * wi, out=work)
+                hi += np.multiply(d, f * wj, out=work)
+
+    def _stacked(self, dim: int) -> tuple[np.ndarray, np.ndarray]:
+        """The position buffers of a step, ``(P, X)``: the halves of one ``(2 dim, N +
+        padding)`` array (made once per ``dim``)."""
+        key = ("stacked", dim)
+        if key not in self._buffers:
+            both = self.springs.buffer(2 * dim)
+            self._buffers[key] = (both, both[:dim], both[dim:])
+        return self._buffers[key][1:]
 
     def _buffer(self, name: str, dim: int) -> np.ndarray:
         key = (name, dim)
@@ -211,7 +284,7 @@ class XPBD(SpringSolver):
         h = _validate.positive_finite("dt", dt) / self.substeps
         self._constants(h)
         n, dim = x.shape
-        P, X = self._buffer("p", dim), self._buffer("x", dim)
+        P, X = self._stacked(dim)
         X[:, :n] = x.T
         V = np.where(self._free, v.T, 0.0)
         inv_m = self.inverse_mass
@@ -236,29 +309,3 @@ class XPBD(SpringSolver):
         self.info = SweepInfo(self.substeps, self.substeps * self.iterations)
         return X[:, :n].T.copy(), V.T.copy()
 
-
-class PBD(XPBD):
-    """Plain position-based dynamics: each sweep moves every spring's ends by ``stiffness``
-    (in ``(0, 1]``, no unit) times the correction that would restore its rest length.
-    The network's ``k`` only selects which springs take part; ``c`` is not used."""
-
-    def __init__(self, network, mass, *, stiffness: float = 1.0, **options):
-        s = _validate.positive_finite("stiffness", stiffness)
-        if s > 1.0:
-            raise ValueError(f"stiffness must lie in (0, 1], got {s}")
-        super().__init__(network, mass, damping=False, **options)
-        self.stiffness = s
-
-    def _constants(self, h: float) -> None:
-        for q in self.springs.sets:
-            q.scale = np.where(q.used, self.stiffness / np.where(q.used, q.w, 1.0), 0.0)
-            q.b = q.scale * q.rest
-
-    def _begin(self, start: np.ndarray) -> None:
-        pass
-
-    def _rule(self, q, d, squared):
-        return q.scale - q.b / np.sqrt(squared + TINY)        # s (ℓ - L)/(w ℓ)
-
-    def _sweep(self, buffer: np.ndarray) -> None:
-        self.springs.sweep(buffer, self._rule)
