@@ -4,7 +4,8 @@ Holds a dam-break state to step from (:func:`dam_state`), the step each method a
 (:func:`step_study`, summarised by :func:`step_table`), how far IISPH's first-order density
 prediction is from the density reached (:func:`prediction_study`), the dam break against
 Martin & Moyce (:func:`dam_run`, :func:`front_errors`, :func:`best_shift`) and how its front
-depends on resolution and viscosity (:func:`front_study`). Built on :mod:`course_lib.sph`.
+depends on resolution, viscosity, the floor and the release (:func:`front_study`: at once,
+or by a gate lifted at :data:`GATE_SPEED`). Built on :mod:`course_lib.sph`.
 """
 
 from __future__ import annotations
@@ -31,8 +32,16 @@ STUDY_RUNS = (("wcsph", 0.4), ("wcsph", 2.0), ("wcsph", 2.4), ("wcsph", 2.8),
 RELEASE_DELAY = 0.175
 #: Delays ΔT tried by :func:`best_shift`.
 SHIFTS = np.round(np.arange(0.0, 0.305, 0.01), 2)
-#: The front study's runs: (particles, viscosity factor) against our default ν.
-FRONT_RUNS = ((450, 1.0), (450, 0.0), (N_DAM, 1.0), (N_DAM, 0.0))
+#: The speed of the notebook's gate, in units of √(g a): a gate lifted at √(g a) clears
+#: the column's height h₀ = 2a in √(2 h₀/g), the fall time that Lauber & Hager (1998) allow
+#: the barrier of an instantaneous dam break.
+GATE_SPEED = 1.0
+#: The front study's runs besides the notebook's own (800 particles, our ν, released at
+#: once): label -> (particles, changes to :func:`course_lib.sph.scenes.liquid` or the scene).
+FRONT_RUNS = {"450 particles": (450, {}),
+              "800, ν = 0": (N_DAM, {"viscosity": 0.0, "wall_viscosity": 0.0}),
+              "800, no-slip floor": (N_DAM, {"wall_velocity": "no-slip"}),
+              "800, gate at √(ga)": (N_DAM, {"gate_speed": GATE_SPEED})}
 
 
 @dataclass
@@ -96,16 +105,21 @@ def best_shift(run: DamRun, shifts=SHIFTS) -> tuple[float, float]:
     return float(shifts[k]), float(errors[k])
 
 
-def front_study(main: DamRun | None = None, runs=FRONT_RUNS) -> dict[tuple[int, float], DamRun]:
-    """The dam break at each (particles, viscosity factor) of ``runs``; ``main`` stands for
-    the run of its own size at the default viscosity, if given."""
-    out = {}
-    for n, factor in runs:
-        if main is not None and factor == 1.0 and main.sim.n == scenes.column_spacing(n)[1]:
-            out[n, factor] = main
-            continue
-        nu = scenes.liquid(scenes.column_spacing(n)[0], 2.0).viscosity * factor
-        out[n, factor] = dam_run(n, viscosity=nu, wall_viscosity=nu)
+def gate_speed(a: float = 1.0, froude: float = GATE_SPEED) -> float:
+    """The gate's lifting speed (m/s) for a column of width ``a`` (m): ``froude · √(g a)``."""
+    return froude * float(np.sqrt(scenes.G * a))
+
+
+def front_study(main: DamRun | None = None, runs=None) -> dict[str, DamRun]:
+    """The notebook's dam break (``main``, or a new run of :data:`N_DAM` particles) and the
+    variants of ``runs`` (default :data:`FRONT_RUNS`), by label; the first is ``"800
+    particles"``. A ``gate_speed`` change is in units of √(g a)."""
+    out = {f"{N_DAM} particles": main if main is not None else dam_run()}
+    for label, (n, changes) in (FRONT_RUNS if runs is None else runs).items():
+        changes = dict(changes)
+        if "gate_speed" in changes:
+            changes["gate_speed"] = gate_speed(1.0, changes["gate_speed"])
+        out[label] = dam_run(n, **changes)
     return out
 
 
