@@ -83,12 +83,12 @@ def draw_magnets(ax, x, m, radius, cam):
     return artists
 
 
-def _spin_frame(ax, q, sides, cam, title, t):
-    ax.clear()
-    draw_boxes(ax, np.zeros((1, 3)), q[None], np.asarray(sides)[None], cam)
-    ax.set(xlim=(-0.14, 0.14), ylim=(-0.14, 0.14), aspect="equal")
-    ax.set_title(f"{title}, t = {t:.2f} s", fontsize=9)
-    ax.set_axis_off()
+def _replace(drawn: list, new: list) -> None:
+    """Remove last frame's patches (``drawn``) and keep this frame's: cheaper than clearing
+    the axes, whose limits, title and hidden frame stay as they were set once."""
+    for artist in drawn:
+        artist.remove()
+    drawn[:] = new
 
 
 def animate_spin(t, q, sides, frames: int = 60, fps: float = 15.0, title: str = "torque-free box"):
@@ -97,13 +97,20 @@ def animate_spin(t, q, sides, frames: int = 60, fps: float = 15.0, title: str = 
     cam = view(20.0, 35.0)
     fig, ax = plt.subplots(figsize=(3.6, 3.6))
     picks = np.linspace(0, len(t) - 1, frames).round().astype(int)
-    fig.tight_layout()
+    ax.set(xlim=(-0.14, 0.14), ylim=(-0.14, 0.14), aspect="equal")
+    ax.set_axis_off()
+    label = ax.set_title("", fontsize=9)
+    drawn: list = []
 
     def update(f):
-        _spin_frame(ax, q[picks[f]], sides, cam, title, t[picks[f]])
+        k = picks[f]
+        _replace(drawn, draw_boxes(ax, np.zeros((1, 3)), q[k][None], np.asarray(sides)[None], cam))
+        label.set_text(f"{title}, t = {t[k]:.2f} s")
         return ()
 
     update(0)
+    fig.tight_layout()
+    fig.set_layout_engine(None)        # laid out once: each saved frame is drawn once
     return FuncAnimation(fig, update, frames=frames, interval=1000.0 / fps)
 
 
@@ -115,18 +122,20 @@ def animate_boxes(run, sides, frames: int | None = None, extent: float = 0.6, fi
     fig, ax = plt.subplots(figsize=figsize)
     sides = np.broadcast_to(np.asarray(sides, float), (*run.x.shape[1:2], 3))
     picks = _picks(len(run.t), frames)
+    ax.set(xlim=xlim, ylim=ylim, aspect="equal")
+    ax.set_axis_off()
+    label = ax.set_title("", fontsize=9)
+    drawn: list = []
 
     def update(f):
         k = picks[f]
-        ax.clear()
-        draw_boxes(ax, run.x[k], run.q[k], sides, cam, ground=0.0, extent=extent)
-        ax.set(xlim=xlim, ylim=ylim, aspect="equal")
-        ax.set_title(f"{title}, t = {run.t[k]:.2f} s", fontsize=9)
-        ax.set_axis_off()
+        _replace(drawn, draw_boxes(ax, run.x[k], run.q[k], sides, cam, ground=0.0, extent=extent))
+        label.set_text(f"{title}, t = {run.t[k]:.2f} s")
         return ()
 
     update(0)
     fig.tight_layout()
+    fig.set_layout_engine(None)        # laid out once: each saved frame is drawn once
     return FuncAnimation(fig, update, frames=len(picks), interval=_interval(run.t, picks))
 
 
@@ -150,18 +159,20 @@ def animate_magnets(run, radius, frames: int | None = None, fps: float = 30.0, f
     half = half_width or 1.15 * (np.abs(run.x[0] - centre).max() + 2 * radius)
     aspect = figsize[0] / figsize[1]
     picks = _picks(len(run.t), frames)
+    ax.set(xlim=(-half * aspect, half * aspect), ylim=(-half, half), aspect="equal")
+    ax.set_axis_off()
+    label = ax.set_title("", fontsize=10)
+    drawn: list = []
 
     def update(f):
         k = picks[f]
-        ax.clear()
-        draw_magnets(ax, run.x[k] - centre, quat.rotate(run.q[k], b.dipole), radius, cam)
-        ax.set(xlim=(-half * aspect, half * aspect), ylim=(-half, half), aspect="equal")
-        ax.set_title(f"{title}, t = {run.t[k] * 1e3:.1f} ms", fontsize=10)
-        ax.set_axis_off()
+        _replace(drawn, draw_magnets(ax, run.x[k] - centre, quat.rotate(run.q[k], b.dipole), radius, cam))
+        label.set_text(f"{title}, t = {run.t[k] * 1e3:.1f} ms")
         return ()
 
     update(0)
     fig.tight_layout()
+    fig.set_layout_engine(None)        # laid out once: each saved frame is drawn once
     return FuncAnimation(fig, update, frames=len(picks), interval=1000.0 / fps)
 
 
