@@ -296,7 +296,7 @@ def test_check_largest_stable_dt(capsys):
 
 @pytest.mark.parametrize(("kwargs", "says", "never"), [
     # too few steps: the runs above the limit end before they grow to the bound
-    ({"n_steps": 20}, "took 20 steps: just above the limit a run grows slowly", "bound is too"),
+    ({"n_steps": 20}, "took 20 steps: too few for a run above the limit", "bound is too"),
     # a bound that only an overflow reaches: the runs grow enormously and still pass
     ({"growth": 1e300, "n_steps": 400}, "the blow-up bound is too high", "steps:"),
     # a bound at twice |y0|: a stable run's transient crosses it
@@ -383,7 +383,8 @@ def test_check_powers_stay_bounded(capsys):
     check.powers_stay_bounded(lambda M: bool(np.linalg.norm(M, 2) <= 1 + 1e-9))
     assert _status("powers_stay_bounded") == "incorrect"
     out = capsys.readouterr().out
-    assert "a large entry or norm is only a transient" in out and "fixed" not in out
+    # the verdicts are exactly the norm rule's: its own hint (escalated: a repeated failure)
+    assert "a large norm may be only a transient" in out and "fixed" not in out
     # |tr| < 2 and |det| <= 1 (true only for det = 1 matrices): both of its mistakes are named
     check.powers_stay_bounded(lambda M: bool(abs(np.trace(M)) < 2 and abs(np.linalg.det(M)) <= 1))
     out = capsys.readouterr().out
@@ -445,6 +446,13 @@ PLANTED = [
      "def stability_function(step, z):\n    z = np.asarray(z)\n"
      "    return step(lambda t, y: z * y, 0.0, np.ones(z.shape), 1.0)",
      "incorrect", "this method updates a copy of y in place"),
+    ("stability_function", "shortcut: one call of step per z, in a loop (the prompt: one call)",
+     "def stability_function(step, z):\n    z = np.asarray(z, dtype=complex)\n"
+     "    out = np.empty_like(z)\n    for i, zi in np.ndenumerate(z):\n"
+     "        out[i] = step(lambda t, y: zi * y, 0.0, np.ones(1, dtype=complex), 1.0)[0]\n"
+     "    return out",
+     "incorrect", "your function called step 6 times for 6 values of z; the exercise asks for "
+     "a single call"),
     ("stability_function", "misconception: the modulus |R|",
      "def stability_function(step, z):\n    z = np.asarray(z, dtype=complex)\n"
      "    return np.abs(step(lambda t, y: z * y, 0.0, np.ones_like(z), 1.0))",
@@ -472,7 +480,7 @@ PLANTED = [
      "        lo, hi = (mid, hi) if ok else (lo, mid)\n    return lo",
      "incorrect", "found without a single run: the exercise asks for the limit by experiment"),
     ("largest_stable_dt", "misconception: a few steps are enough",
-     _SEARCH.format(n=20, bound=1e3), "incorrect", "took 20 steps: just above the limit"),
+     _SEARCH.format(n=20, bound=1e3), "incorrect", "took 20 steps: too few for a run above"),
     ("largest_stable_dt", "shortcut: a scan of 50 steps from dt_hi down (too coarse)",
      "def largest_stable_dt(f, y0, method, dt_hi):\n    y0 = np.asarray(y0, dtype=float)\n"
      "    for dt in np.linspace(dt_hi, dt_hi / 50, 50):\n"
@@ -505,6 +513,12 @@ PLANTED = [
      "def powers_stay_bounded(M):\n"
      "    return bool(np.max(np.abs(np.linalg.matrix_power(M, 1000))) < 1e3)",
      "incorrect", "uses the reference: your function calls numpy.linalg.matrix_power"),
+    ("powers_stay_bounded", "misconception: a norm at most 1",
+     "def powers_stay_bounded(M):\n    return bool(np.linalg.norm(M, 2) <= 1)",
+     "incorrect", "a norm above 1 does not mean growth: [[0.5, 100], [0, 0.5]] has norm 100"),
+    ("powers_stay_bounded", "misconception: a determinant at most 1",
+     "def powers_stay_bounded(M):\n    return bool(abs(np.linalg.det(M)) <= 1)",
+     "incorrect", "|det M| is the product of the eigenvalues' moduli: diag(1.01, 0.2)"),
     ("powers_stay_bounded", "misconception: the spectral radius is all",
      "def powers_stay_bounded(M):\n"
      "    return bool(np.max(np.abs(np.linalg.eigvals(M))) <= 1 + 1e-7)",
@@ -563,3 +577,36 @@ def test_midpoint_boundary_hugs_the_imaginary_axis():
     assert inset.get_xlim() == pytest.approx((-0.03, 0.03)) and x > -0.03
     assert any("1.0078" in t.get_text() for t in inset.texts)
     plt.close(fig)
+
+
+def test_the_growth_quoted_is_what_the_answers_own_run_shows():
+    """The hint quotes the growth of the run's states, max|y_k| / max|y0| (the norm of the
+    blow-up bound), which the student can reproduce from the trajectory; the recorded
+    evaluations also hold RK4's stages, which grow further (2.8e6 against 9.8e5 here)."""
+    FAILURES["nb03.largest_stable_dt"] = 1              # the fuller hint, with the numbers
+    result = evaluate(check.largest_stable_dt,
+                      lambda *a: _largest_stable_dt(*a, n_steps=20, growth=1e6))
+    text = next(c for c in result["failed_cases"] if c.startswith("RK4"))
+    assert "2.8e+06" not in text
+    quoted = float(text.split("its states reached ")[1].split(" max|y0|")[0])
+    A, y0 = check.LIMIT_CASES[1][1], np.array(check.LIMIT_CASES[1][2])
+    dt = float(_largest_stable_dt(lambda t, y: A @ y, y0, "rk4", 3.0, n_steps=20, growth=1e6))
+    assert f"your run at dt = {dt:.4g} s" in text
+    run = cl.integrate(lambda t, y: A @ y, y0, (0.0, 20 * dt), dt, "rk4",
+                       blowup_bound=1e6 * np.max(np.abs(y0)))
+    assert run.stable
+    assert quoted == pytest.approx(np.max(np.abs(run.y)) / np.max(np.abs(y0)), rel=1e-2)
+    assert quoted < 1e6 and "took 20 steps" in text
+
+
+def test_two_matrix_hints_are_two_sentences():
+    """Two kinds of mistake give two sentences, "... eigenvectors. Also: ...", the kind
+    judged wrong most often first."""
+    FAILURES.pop("nb03.powers_stay_bounded", None)
+    answer = planted("def powers_stay_bounded(M):\n"
+                     "    return bool(abs(np.trace(M)) < 2 and abs(np.linalg.det(M)) <= 1)",
+                     "powers_stay_bounded")
+    text = "\n".join(evaluate(check.powers_stay_bounded, answer)["failed_cases"])
+    hint = text.split("hint: ")[1]
+    assert "eigenvectors Also" not in hint and ". Also: " in hint
+    assert hint.startswith("an eigenvalue of modulus above 1")    # wrong on 2, the other on 1

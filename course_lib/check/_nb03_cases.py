@@ -4,7 +4,9 @@
   them updating a copy of ``y`` in place, so that a real state fails), where (:data:`Z_GRID`,
   :data:`Z_SCALAR`), and the table's ``R`` an answer may return instead (:data:`TABLE`);
 - exercise 3: the fourteen matrices (:data:`MATRIX_CASES`) with the kind of mistake a wrong
-  verdict on each points to, and the hint of each kind (:data:`MATRIX_HINTS`).
+  verdict on each points to, the hint of each kind (:data:`MATRIX_HINTS`), and wrong rules
+  (a norm, the determinant) recognised by their verdicts (:data:`WRONG_RULES`,
+  :func:`follows_rule`).
 
 Imports NumPy and :func:`course_lib.check._answers.kutta3`.
 """
@@ -126,3 +128,33 @@ MATRIX_HINTS = {
 SLOW_CASES = ("diag(1.00001, 0.5)", "[[0.99999, 1], [0, 0.99999]]")
 #: Lines of Python an answer may run per matrix: an analysis needs a few dozen.
 POWERS_LINE_BUDGET = 500
+
+#: Wrong rules a student may write, by the quantity each compares with 1 (bounded iff it is
+#: at most 1), with the hint for an answer whose verdicts are exactly that rule's.
+WRONG_RULES = [
+    (lambda M: float(np.linalg.norm(M, 2)),
+     ("a norm above 1 does not mean growth: [[0.5, 100], [0, 0.5]] has norm 100, yet its powers "
+      "decay to zero. Decide from the eigenvalues",
+      "‖M‖ ≤ 1 is enough for bounded powers but far from needed: a large norm may be only a "
+      "transient ([[0.5, 100], [0, 0.5]]^n rises to about 100, then decays). The long run is "
+      "decided by the spectral radius, and on the unit circle by the eigenvectors")),
+    (lambda M: float(abs(np.linalg.det(M))),
+     ("|det M| is the product of the eigenvalues' moduli: diag(1.01, 0.2) has det 0.2, yet "
+      "its powers grow. Compare each |μ| with 1",
+      "|det M| ≤ 1 lets one eigenvalue exceed 1 if the other is small (diag(1.01, 0.2)), and "
+      "det = 1 with a double eigenvalue -1 may be a Jordan block (symplectic Euler at "
+      "ω dt = 2 grows like n). Compare each |μ| with 1, and count the eigenvectors on the "
+      "unit circle")),
+]
+
+
+def follows_rule(quantity, verdicts: dict) -> bool:
+    """Whether an answer's ``verdicts`` (matrix description -> bool) are those of "bounded iff
+    quantity(M) <= 1" on every matrix it judged (a quantity that round-off has moved off 1
+    by less than 1e-6 may go either way; one of exactly 1 is at most 1)."""
+    for what, M, *_ in MATRIX_CASES:
+        if what in verdicts:
+            q = quantity(np.array(M, dtype=float))
+            if not 0.0 < abs(q - 1.0) < 1e-6 and (q <= 1.0) != verdicts[what]:
+                return False
+    return True

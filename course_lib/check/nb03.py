@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..integrators import integrate
 from ..stability import amplification_factor, max_stable_dt
 from . import Checker, exercise
 from ._answers import as_array, call, call_analysis, one_number, rtol_for
@@ -24,9 +25,11 @@ from ._nb03_cases import (
     MATRIX_HINTS,
     POWERS_LINE_BUDGET,
     TABLE,
+    WRONG_RULES,
     Z_GRID,
     Z_SCALAR,
     cast_hint,
+    follows_rule,
 )
 
 # --- exercise 1: R(z) of a method, from one step ---------------------------------------
@@ -39,8 +42,23 @@ def stability_function(ck: Checker, student) -> None:
         for z in (Z_GRID, Z_SCALAR):
             what = (f"{name}, z of shape {np.shape(z)}" if np.ndim(z)
                     else f"{name}, z = {z}")
-            ok, got = call(ck, what, student, stepper, z, error_hint=cast_hint)
+            calls = []
+
+            def counted(f, t, y, dt, stepper=stepper, calls=calls):
+                calls.append(1)
+                return stepper(f, t, y, dt)
+
+            ok, got = call(ck, what, student, counted, z, error_hint=cast_hint)
             if not ok:
+                continue
+            if len(calls) > 1:
+                values = f"{np.size(z)} value{'s' if np.size(z) > 1 else ''}"
+                ck.expect(False, what, f"your function called step {len(calls)} times for "
+                          f"{values} of z; the exercise asks for a single call", (
+                              "hand step an array of states, one per z, and take ONE step",
+                              "hand step an array of states shaped like z and an f that "
+                              "multiplies each state by its own z: one call then steps every "
+                              "state at once"))
                 continue
             expected = np.asarray(R(np.asarray(z, dtype=complex)))
             answer = as_array(got, complex_ok=True)
@@ -121,6 +139,14 @@ class Probe:
         with np.errstate(all="ignore"):
             return self.A @ y
 
+    def state_growth(self, dt: float, steps: int) -> float:
+        """``max_k max|y_k| / max|y0|`` over the states of a run of ``steps`` steps of ``dt``
+        from ``y0``: what the answer's own trajectory shows (the recorded evaluations also
+        hold the stages of a step, which may be larger)."""
+        with np.errstate(all="ignore"):
+            run = integrate(lambda t, y: self.A @ y, self.y0, (0.0, steps * dt), dt, self.method)
+            return float(np.max(np.abs(run.y)) / np.max(np.abs(self.y0)))
+
     def runs(self, first: bool = False) -> list[tuple[float, int, float]]:
         """``(dt, steps, largest |y| / |y0|)`` of every run of at least two steps (with
         ``first``, of the first one only: enough to know that a search ran)."""
@@ -158,23 +184,29 @@ def _limit_hint(probe: Probe, A, method: str, dt: float, limit: float):
         return ("find the limit by experiment: your function ran no simulation of "
                 "dy/dt = f(t, y) from y0")
     if dt > limit:  # a run above the limit passed as stable: which one, and why?
-        step, n, size = min(runs, key=lambda r: abs(r[0] / dt - 1))
+        # the run at the answer itself, or the nearest one below it: one the search judged
+        # stable (the nearest above it may be the unstable end of the last bracket)
+        below_answer = [r for r in runs if r[0] <= dt * (1 + 1e-9)] or runs
+        step, n, _ = min(below_answer, key=lambda r: abs(r[0] / dt - 1))
         if abs(step / dt - 1) > 0.05:  # no run near the answer to read (e.g. not recorded)
             return ("a run just above the limit grows slowly: check how many steps your runs "
                     "take, and that your blow-up bound is not far above a stable run's size")
-        grew = _growth(A, method, step) ** n
-        if size > 1e6:
-            return (f"your run at dt = {step:.4g} s grew {size:.1e}-fold and still counted as "
-                    "stable: the blow-up bound is too high",
-                    f"your run at dt = {step:.4g} s grew {size:.1e}-fold and still counted as "
-                    "stable: the blow-up bound is too high (without one, only overflow stops "
-                    "a run). No stable run of these systems grows more than a few times "
-                    "|y0|: a bound of 1000 max|y0| is far enough")
-        return (f"your run at dt = {step:.4g} s took {n} steps: just above the limit a run "
-                "grows slowly, too slowly to reach the bound in so few steps",
+        grew = probe.state_growth(step, n)  # max|y_k| / max|y0| over the run's own states
+        if grew > 1e6:
+            return (f"your run at dt = {step:.4g} s reached {grew:.1e} max|y0| and still counted "
+                    "as stable: the blow-up bound is too high",
+                    f"your run at dt = {step:.4g} s reached {grew:.1e} max|y0| (the largest "
+                    "max|y| of its states) and still counted as stable: the blow-up bound is too "
+                    "high (without one, only overflow stops a run). No stable run of these "
+                    "systems grows more than a few times |y0|: a bound of 1000 max|y0| is far "
+                    "enough")
+        return (f"your run at dt = {step:.4g} s took {n} steps: too few for a run above the "
+                "limit to grow past the bound",
                 f"your run at dt = {step:.4g} s took {n} steps: there |R| = "
-                f"{_growth(A, method, step):.4f} per step, {grew:.3g}-fold in {n} steps. Run "
-                "thousands of steps, so that a slow growth reaches the bound")
+                f"{_growth(A, method, step):.4f} per step, and in {n} steps its states "
+                f"reached {grew:.3g} max|y0|, not enough to pass the bound. Just above the "
+                "limit |R| is barely above 1: run thousands of steps, so that a slow growth "
+                "reaches the bound")
     below = [r for r in runs if dt * (1 + 1e-9) < r[0] < limit]
     if not below:  # no stable run was mistaken: the search stopped short of the limit
         above = [r[0] for r in runs if r[0] > dt * (1 + 1e-9)]
@@ -185,11 +217,13 @@ def _limit_hint(probe: Probe, A, method: str, dt: float, limit: float):
         return (f"{gap}: your search tried no step between {dt:.4g} s (stable) and "
                 f"{min(above):.4g} s (unstable). Narrow that bracket, e.g. by bisection, until "
                 "the two are within 1 %")
-    step, n, size = min(below)
+    step, n, _ = min(below)
+    size = probe.state_growth(step, n)
     return (f"your run at dt = {step:.4g} s is stable (|R| = {_growth(A, method, step):.5f} ≤ 1) "
             "but counted as unstable: a stable run may grow for a while before it decays",
             f"your run at dt = {step:.4g} s is stable (|R| = {_growth(A, method, step):.5f} ≤ 1) "
-            f"but counted as unstable; it reached {size:.3g}·|y0| on the way, since a stable "
+            f"but counted as unstable; run to the end, its states reach {size:.3g} max|y0| on "
+            "the way, since a stable "
             "run of a damped spring can swing above its start before it decays. Put the bound "
             "far above that, e.g. 1000 max|y0|")
 
@@ -239,7 +273,7 @@ def bounded_reference(M, tol: float = 1e-9) -> bool:
 @exercise(allow=(), forbid=(np.linalg.matrix_power,))
 def powers_stay_bounded(ck: Checker, student) -> None:
     """``student(M) -> bool`` on fourteen 2×2 matrices; an analysis, not powers of M."""
-    wrong, kinds, answers = [], [], 0
+    wrong, kinds, answers, student_verdicts = [], [], 0, {}
     for what, M, expected, why, kind in MATRIX_CASES:
         ok, got = call_analysis(ck, what, POWERS_LINE_BUDGET, (
             "decide from the eigenvalues and eigenvectors of M, not by multiplying M many times",
@@ -254,15 +288,27 @@ def powers_stay_bounded(ck: Checker, student) -> None:
             ck.expect(False, what, f"expected True or False, got {got!r}"[:120])
             continue
         answers += 1
+        student_verdicts[what] = bool(got)
         if bool(got) != expected:
             wrong.append(f"{what}: expected {expected} ({why}), got {bool(got)}")
             kinds.append(kind)
     if not answers:
         return
-    # the hints of the two most telling kinds of mistake, nudge first
-    found = [k for k in MATRIX_HINTS if k in kinds][:2]
-    hints = [MATRIX_HINTS[k] for k in found]
-    hint = tuple(" Also: ".join(h if isinstance(h, str) else h[min(i, len(h) - 1)]
-                                for h in hints) for i in range(2)) if hints else None
+    hint = _powers_hint(student_verdicts, kinds) if wrong else None
     ck.expect(not wrong, f"all {answers} matrices judged",
               "".join(f"\n      {w}" for w in wrong), hint)
+
+
+def _powers_hint(verdicts: dict, kinds: list):
+    """The hint for wrong verdicts: a known wrong rule's own when the verdicts are exactly that
+    rule's (a norm, the determinant), else those of the two kinds of matrix judged wrong most
+    often (ties in :data:`MATRIX_HINTS`' order), nudge first, as sentences."""
+    for quantity, rule_hint in WRONG_RULES:
+        if follows_rule(quantity, verdicts):
+            return rule_hint
+    order = list(MATRIX_HINTS)
+    found = sorted(set(kinds), key=lambda k: (-kinds.count(k), order.index(k)))[:2]
+    hints = [[h] * 2 if isinstance(h, str) else list(h) for h in (MATRIX_HINTS[k] for k in found)]
+    if len(hints) == 1:
+        return tuple(hints[0])
+    return tuple(f"{first.rstrip('.')}. Also: {second}" for first, second in zip(*hints, strict=True))
