@@ -842,6 +842,16 @@ PLANTED = [
      "def implicit_midpoint_step(f, t, y, dt):\n"
      "    return y + dt * f(t + dt / 2, y + dt / 2 * f(t, y))",
      "incorrect", "that is the EXPLICIT midpoint"),
+    ("implicit_midpoint_step", "misconception: forward Euler (on the stiff decay it lands far out)",
+     "def implicit_midpoint_step(f, t, y, dt):\n    return y + dt * f(t, y)",
+     "incorrect", "that is forward Euler, y + dt f(t, y)"),
+    ("implicit_midpoint_step", "shortcut: Newton written for a state of one axis (the five "
+     "particles break it)",
+     _NEWTON.format(time="t + 0.5 * dt").replace("e = np.zeros(y.size)", "e = np.zeros(len(y))")
+     .replace("e.reshape(y.shape)", "e").replace("np.empty((y.size, y.size))",
+                                                "np.empty((len(y), len(y)))")
+     .replace("r.ravel()).reshape(y.shape)", "r)").replace(" - r).ravel() / 1e-7", " - r) / 1e-7"),
+     "incorrect", "y may have any shape, here (5, 2): do the Newton solve on the flattened state"),
     ("implicit_midpoint_step", "misconception: t frozen at 0",
      _NEWTON.format(time="0.5 * dt"), "incorrect", "pass the step's time to f"),
     ("implicit_midpoint_step", "Newton written out", _NEWTON.format(time="t + 0.5 * dt"),
@@ -973,3 +983,88 @@ def test_the_follower_explorer_takes_its_sliders_ends():
         assert lesson.follower_experiment(end) is not None
     with pytest.raises(ValueError, match="kappa_dt"):
         lesson.follower_experiment(lo / 2)
+
+
+def test_an_explicit_step_is_not_told_its_iteration_diverged():
+    """On the stiff decay the explicit midpoint lands at 288.5 and forward Euler at -24, far
+    outside |y| = 1: the check used to call that a diverged iteration. An explicit step is
+    named as such on every case, the stiff one included; an answer that evaluates f once or
+    twice and matches no known method is told it ran no iteration; a fixed-point iteration
+    that blows up is still told it diverged."""
+    for source, says in (
+            ("def implicit_midpoint_step(f, t, y, dt):\n"
+             "    return y + dt * f(t + dt / 2, y + dt / 2 * f(t, y))", "that is the EXPLICIT midpoint"),
+            ("def implicit_midpoint_step(f, t, y, dt):\n    return y + dt * f(t, y)",
+             "that is forward Euler"),
+            ("def implicit_midpoint_step(f, t, y, dt):\n    k1 = f(t, y)\n"
+             "    return y + dt / 2 * (k1 + f(t + dt, y + dt * k1))", "that is Heun's explicit method"),
+            ("def implicit_midpoint_step(f, t, y, dt):\n    return y + 2 * dt * f(t + dt, y)",
+             "your step evaluated f only 1 time(s)")):
+        failed = evaluate(check.implicit_midpoint_step,
+                          planted(source, "implicit_midpoint_step"))["failed_cases"]
+        stiff = next(c for c in failed if c.startswith("a stiff decay"))
+        assert says in stiff and "diverged" not in stiff, (source, stiff)
+    fixed_point = evaluate(check.implicit_midpoint_step, _imr_fixed_point)["failed_cases"]
+    assert "diverged" in next(c for c in fixed_point if c.startswith("a stiff decay"))
+
+
+def test_a_one_axis_answer_is_told_about_shapes():
+    """Newton written for y of shape (d,) fails on five particles, y of shape (5, 2): the hint
+    says to flatten the state, whether the answer raises or returns the wrong shape."""
+    def flat_only(f, t, y, dt):
+        return _imr_newton(lambda s, u: f(s, u.reshape(-1, 2)).ravel(), t, np.ravel(y), dt)
+
+    for answer in (flat_only, planted(PLANTED[-3][2], "implicit_midpoint_step")):
+        failed = evaluate(check.implicit_midpoint_step, answer)["failed_cases"]
+        particles = [c for c in failed if c.startswith("5 particles")]
+        assert len(particles) == 1 and "do the Newton solve on the flattened state" in particles[0]
+
+
+def test_trapezoid_and_implicit_midpoint_coincide_only_with_constant_coefficients():
+    """Section 3: "On linear fields with constant coefficients ... the trapezoid coincides
+    with the implicit midpoint rule"; on the pulsing vortex (linear, changing in time) and
+    on the swirl (nonlinear) the two differ, and the trapezoid loses |X| while the implicit
+    midpoint keeps it."""
+    y = np.array([0.8, -0.6])
+    A = np.array([[-0.3, -2.0], [1.5, -0.1]])                  # constant, not a rotation
+    for f in (cl.fields.vortex, lambda t, X: A @ X):
+        for t, dt in ((0.0, 0.5), (0.7, 1.3)):
+            np.testing.assert_allclose(cl.trapezoidal(f, t, y, dt),
+                                       _imr_newton(f, t, y, dt), rtol=1e-12, atol=1e-14)
+    for f in (check.pulsing_vortex, check.swirl):
+        trap, imr = cl.trapezoidal(f, 0.7, y, 0.4), _imr_newton(f, 0.7, y, 0.4)
+        assert np.max(np.abs(trap - imr)) > 1e-4
+        assert abs(np.linalg.norm(trap) - 1.0) > 1e-5
+        assert np.linalg.norm(imr) == pytest.approx(1.0, rel=1e-12)
+
+
+def test_prose_after_the_second_read():
+    """The attribution of the tableau, the scope of the trapezoid sentence and of C, and the
+    stiff figure's runs that blew up drawn in a strip of their own, not at invented errors."""
+    import pathlib
+
+    import nbformat
+
+    nb = nbformat.read(pathlib.Path(__file__).resolve().parents[1] / "solutions"
+                       / "04_beyond_euler.ipynb", as_version=4)
+    text = " ".join(" ".join(c.source.split()) for c in nb.cells if c.cell_type == "markdown")
+    assert "Butcher (2016) arranges" not in text and "(Butcher 1963;" in text
+    assert "On linear fields with constant coefficients, $V = AX$ with a fixed matrix $A$, the " \
+           "trapezoid coincides with the implicit midpoint rule" in text
+    assert "the two differ only on nonlinear problems" not in text
+    assert "$C = -1/(p+1)!$ only for" not in text and "$+1/12$ for the trapezoid" in text
+    code = next(c.source for c in nb.cells if c.cell_type == "code" and "stiff_rows" in c.source)
+    assert "blew_up_at" not in code and "ax_b.plot" in code and "ylim=(1e-12, 10)" in code
+
+
+def test_follower_legend_is_below_both_panels(follower_view_module):
+    """The player's legend names the exact curve of the left panel: it sits below both panels
+    (a figure legend), not inside the |R| panel, and the exact curve is drawn on top."""
+    plot = follower_view_module.FollowerPlot()
+    assert plot.ax_r.get_legend() is None and plot.ax_x.get_legend() is None
+    (legend,) = plot.fig.legends
+    labels = [t.get_text() for t in legend.get_texts()]
+    assert labels[0] == "exact x(t) (left panel)" and len(labels) == 6
+    assert plot.exact.get_zorder() > max(line.get_zorder() for line in plot.lines.values())
+    assert plot.dynamic.index(plot.exact) > max(plot.dynamic.index(line)
+                                                for line in plot.lines.values())

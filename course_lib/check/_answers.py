@@ -175,11 +175,12 @@ def differ(answer, expected, rtol: float) -> str:
 
 
 def pure_call(ck: Checker, what: str, student: Callable, f: Callable, t: float,
-              y: np.ndarray, dt: float) -> tuple[bool, object]:
-    """Call a one-step method ``student(f, t, y, dt)`` on a copy of ``y``, like :func:`call`;
-    a function that overwrites its input fails the case with its own hint."""
+              y: np.ndarray, dt: float, error_hint=None) -> tuple[bool, object]:
+    """Call a one-step method ``student(f, t, y, dt)`` on a copy of ``y``, like :func:`call`
+    (``error_hint`` as there); a function that overwrites its input fails the case with its
+    own hint."""
     y_in = y.copy()
-    ok, got = call(ck, what, student, f, t, y_in, dt)
+    ok, got = call(ck, what, student, f, t, y_in, dt, error_hint=error_hint)
     if ok and not np.array_equal(y_in, y):
         ck.expect(False, what, "your function changed its input y",
                   "build a new array instead of updating y in place (y += ...)")

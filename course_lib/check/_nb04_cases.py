@@ -4,13 +4,19 @@
 integer x0, a coupled stiff pair, the vortex, no step), :func:`backward_euler_linear_reference`
 and :func:`linear_newton` its two references (a solve per step, and course_lib's Newton
 solver), and :func:`linear_mistakes` what the usual mistakes make of a run, keyed by hint.
-Imports NumPy and :func:`course_lib.integrate`.
+For the implicit midpoint rule (``nb04.implicit_midpoint_step``): the fields
+(:func:`pulsing_vortex`, :func:`swirl`), the cases (:data:`MIDPOINT_RULE_CASES`), two
+independent solves (:func:`implicit_midpoint_reference`, and the trapezoid's), the usual
+mistakes (:func:`midpoint_rule_mistakes`) and the hint for a state of one axis only
+(:func:`shape_hint`).
+Imports NumPy, SciPy's root finder and :func:`course_lib.integrate`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .. import fields
 from ..integrators import integrate
 
 _J = np.array([[0.0, -1.0], [1.0, 0.0]])
@@ -86,3 +92,109 @@ def linear_mistakes(A, x0, dt, n) -> dict:
 def _expm(M) -> np.ndarray:
     w, V = np.linalg.eig(np.asarray(M, dtype=complex))
     return (V @ np.diag(np.exp(w)) @ np.linalg.inv(V)).real
+
+
+# --- the implicit midpoint rule (nb04.implicit_midpoint_step) -------------------------------
+
+FROZEN_T = (
+    "pass the step's time to f: this field changes with time, and you evaluated it as if "
+    "the step started at t = 0"
+)
+
+
+def pulsing_vortex(t, X):
+    """The vortex ``V = ω(t) (-y, x)`` whose rate ``ω(t) = 1 + cos(t)/2`` pulses in time.
+
+    Exact solution from ``(r, φ0)``: radius ``r``, angle ``φ0 + t + sin(t)/2``.
+    """
+    return (1.0 + 0.5 * np.cos(t)) * fields.vortex(t, X)
+
+
+def swirl(t, X):
+    """A nonlinear vortex, ``V = (1 + x) (-y, x)``: ``|X|`` is invariant, the speed is not."""
+    X = np.asarray(X, dtype=float)
+    return (1.0 + X[..., :1]) * np.stack((-X[..., 1], X[..., 0]), axis=-1)
+
+
+def _pendulum(t, y):
+    return np.array([y[1], -np.sin(y[0])])
+
+
+def _stiff(t, y):
+    return -50.0 * y
+
+
+#: (description, f, t, y, dt, keeps |y|).
+MIDPOINT_RULE_CASES = [
+    ("the swirl V = (1 + x)(-y, x) from (1, 0.5), dt = 0.4", swirl, 0.0, [1.0, 0.5], 0.4, True),
+    ("a pendulum θ'' = -sin θ from (2, 0), dt = 0.3", _pendulum, 0.0, [2.0, 0.0], 0.3, False),
+    ("the pulsing vortex at t = 0.7, dt = 0.4 (time-dependent)", pulsing_vortex, 0.7,
+     [0.8, -0.6], 0.4, True),
+    ("5 particles in the swirl, y of shape (5, 2), dt = 0.2", swirl, 0.0,
+     [[0.3, 0.1], [0.5, -0.4], [-0.2, 0.6], [0.1, 0.1], [-0.5, -0.3]], 0.2, False),
+    ("a stiff decay dy/dt = -50 y, dt = 0.5 (dt |∂f/∂y| / 2 = 12.5)", _stiff, 0.0, [1.0], 0.5,
+     False),
+]
+
+
+def implicit_midpoint_reference(f, t, y, dt):
+    """``Y = y + dt f(t + dt/2, (y + Y)/2)``, solved by ``scipy.optimize.root`` to 1e-14."""
+    from scipy.optimize import root
+
+    y = np.asarray(y, dtype=float)
+
+    def residual(flat):
+        Y = flat.reshape(y.shape)
+        return (Y - y - dt * f(t + 0.5 * dt, 0.5 * (y + Y))).ravel()
+
+    guess = (y + dt * f(t, y)).ravel()
+    sol = root(residual, guess, tol=1e-14)
+    return sol.x.reshape(y.shape)
+
+
+def midpoint_rule_mistakes(f, t, y, dt) -> dict:
+    """What the usual mistakes make of one implicit midpoint step, keyed by hint."""
+    mid = y + 0.5 * dt * f(t, y)
+    with np.errstate(all="ignore"):
+        return {
+            "that is the trapezoid: the implicit midpoint evaluates f once, at the average "
+            "state (y + Y)/2 and time t + dt/2": _trapezoid_reference(f, t, y, dt),
+            "that is the EXPLICIT midpoint: here the midpoint state is (y + Y)/2, with the "
+            "unknown end Y; solve for Y": y + dt * f(t + 0.5 * dt, mid),
+            **_explicit_mistakes(f, t, y, dt),
+            "evaluate f at the middle of the step, time t + dt/2, not at t":
+                implicit_midpoint_reference(lambda s, u, f=f, t=t: f(t, u), t, y, dt),
+            FROZEN_T: implicit_midpoint_reference(lambda s, u, f=f, t=t: f(s - t, u), t, y, dt),
+        }
+
+
+def _explicit_mistakes(f, t, y, dt) -> dict:
+    """What explicit steps make of one implicit midpoint step, keyed by hint."""
+    k1 = f(t, y)
+    return {
+        "that is forward Euler, y + dt f(t, y): the implicit midpoint takes its slope at the "
+        "average state (y + Y)/2, with the unknown end Y; solve for Y": y + dt * k1,
+        "that is Heun's explicit method: the implicit midpoint takes ONE slope, at the "
+        "average state (y + Y)/2 with the unknown end Y; solve for Y":
+            y + 0.5 * dt * (k1 + f(t + dt, y + dt * k1)),
+    }
+
+
+def shape_hint(y: np.ndarray) -> str | None:
+    """The hint for an answer that handles a state of one axis only, when ``y`` has more."""
+    if y.ndim < 2:
+        return None
+    return (f"y may have any shape, here {y.shape}: do the Newton solve on the flattened state "
+            "(y.ravel(), a Jacobian of size y.size × y.size) and reshape Y back to y's shape")
+
+
+def _trapezoid_reference(f, t, y, dt):
+    from scipy.optimize import root
+
+    f0 = f(t, y)
+
+    def residual(flat):
+        Y = flat.reshape(y.shape)
+        return (Y - y - 0.5 * dt * (f0 + f(t + dt, Y))).ravel()
+
+    return root(residual, (y + dt * f0).ravel(), tol=1e-14).x.reshape(y.shape)

@@ -23,8 +23,20 @@ from .. import fields
 from ..integrators import midpoint
 from . import Checker, exercise
 from ._answers import as_array, call, close, pure_call, rtol_for, step_cases
-from ._nb04_cases import LINEAR_CASES, backward_euler_linear_reference, linear_newton
+from ._nb04_cases import (
+    FROZEN_T,
+    LINEAR_CASES,
+    MIDPOINT_RULE_CASES,
+    _stiff,
+    backward_euler_linear_reference,
+    implicit_midpoint_reference,
+    linear_newton,
+    midpoint_rule_mistakes,
+    pulsing_vortex,
+    shape_hint,
+)
 from ._nb04_cases import linear_mistakes as _linear_mistakes
+from ._nb04_cases import swirl as swirl  # the fields the checks use, as check.swirl
 
 _START_TWICE = (
     "you used the start slope f(t, y) for the whole step (that is forward Euler): take "
@@ -45,20 +57,6 @@ _HEUN = (
 _RETURNED_MID = (
     "you returned the half-step prediction y_mid; the step is y + dt * f(t + dt/2, y_mid)"
 )
-_FROZEN_T = (
-    "pass the step's time to f: this field changes with time, and you evaluated it as if "
-    "the step started at t = 0"
-)
-
-
-def pulsing_vortex(t, X):
-    """The vortex ``V = ω(t) (-y, x)`` whose rate ``ω(t) = 1 + cos(t)/2`` pulses in time.
-
-    Exact solution from ``(r, φ0)``: radius ``r``, angle ``φ0 + t + sin(t)/2``.
-    """
-    return (1.0 + 0.5 * np.cos(t)) * fields.vortex(t, X)
-
-
 def _decay(t, y):
     return -2.0 * y
 
@@ -79,7 +77,7 @@ def midpoint_step(ck: Checker, student) -> None:
         k1 = f(t, y)
         y_mid = y + 0.5 * dt * k1
         return {
-            _FROZEN_T: y + dt * f(0.5 * dt, y + 0.5 * dt * f(0.0, y)),
+            FROZEN_T: y + dt * f(0.5 * dt, y + 0.5 * dt * f(0.0, y)),
             _START_TWICE: y + dt * k1,
             _TIME_AT_START: y + dt * f(t, y_mid),
             _TIME_AT_END: y + dt * f(t + dt, y_mid),
@@ -140,119 +138,97 @@ def backward_euler_linear(ck: Checker, student) -> None:
 # --- the implicit midpoint rule ----------------------------------------------------------
 
 
-def swirl(t, X):
-    """A nonlinear vortex, ``V = (1 + x) (-y, x)``: ``|X|`` is invariant, the speed is not."""
-    X = np.asarray(X, dtype=float)
-    return (1.0 + X[..., :1]) * np.stack((-X[..., 1], X[..., 0]), axis=-1)
-
-
-def _pendulum(t, y):
-    return np.array([y[1], -np.sin(y[0])])
-
-
-def _stiff(t, y):
-    return -50.0 * y
-
-
-#: (description, f, t, y, dt, keeps |y|).
-MIDPOINT_RULE_CASES = [
-    ("the swirl V = (1 + x)(-y, x) from (1, 0.5), dt = 0.4", swirl, 0.0, [1.0, 0.5], 0.4, True),
-    ("a pendulum θ'' = -sin θ from (2, 0), dt = 0.3", _pendulum, 0.0, [2.0, 0.0], 0.3, False),
-    ("the pulsing vortex at t = 0.7, dt = 0.4 (time-dependent)", pulsing_vortex, 0.7,
-     [0.8, -0.6], 0.4, True),
-    ("5 particles in the swirl, y of shape (5, 2), dt = 0.2", swirl, 0.0,
-     [[0.3, 0.1], [0.5, -0.4], [-0.2, 0.6], [0.1, 0.1], [-0.5, -0.3]], 0.2, False),
-    ("a stiff decay dy/dt = -50 y, dt = 0.5 (dt |∂f/∂y| / 2 = 12.5)", _stiff, 0.0, [1.0], 0.5,
-     False),
-]
-
-
-def implicit_midpoint_reference(f, t, y, dt):
-    """``Y = y + dt f(t + dt/2, (y + Y)/2)``, solved by ``scipy.optimize.root`` to 1e-14."""
-    from scipy.optimize import root
-
-    y = np.asarray(y, dtype=float)
-
-    def residual(flat):
-        Y = flat.reshape(y.shape)
-        return (Y - y - dt * f(t + 0.5 * dt, 0.5 * (y + Y))).ravel()
-
-    guess = (y + dt * f(t, y)).ravel()
-    sol = root(residual, guess, tol=1e-14)
-    return sol.x.reshape(y.shape)
-
-
 @exercise(allow=(), forbid=("scipy.optimize",))
 def implicit_midpoint_step(ck: Checker, student) -> None:
     """``student(f, t, y, dt)``: the implicit midpoint rule, solved to round-off.
 
     Newton's method is the exercise: a solver that does it (``scipy.optimize``) or a library
-    step that does (``2 * backward_euler(f, t, y, dt/2) - y``) is refused."""
+    step that does (``2 * backward_euler(f, t, y, dt/2) - y``) is refused. A known mistake is
+    named only if every case the answer misses shows it: on the stiff decay, linear and
+    autonomous, Heun's method and the explicit midpoint give the same value."""
+    runs = []
     for what, f, t, y, dt, keeps_norm in MIDPOINT_RULE_CASES:
         y = np.asarray(y, dtype=float)
-        expected = implicit_midpoint_reference(f, t, y, dt)
-        mid = y + 0.5 * dt * f(t, y)
+        calls: list = []  # the answer's evaluations of f: an iteration makes many
+
+        def counted(s, u, f=f, calls=calls):
+            calls.append(1)
+            return f(s, u)
+
+        one_axis = shape_hint(y)
+        ok, got = pure_call(ck, what, student, counted, t, y, dt,
+                            error_hint=lambda exc, hint=one_axis: hint if isinstance(
+                                exc, ValueError | IndexError | np.linalg.LinAlgError) else None)
+        if ok:
+            runs.append((what, f, t, y, dt, keeps_norm, got, len(calls)))
+    missed = [(got, midpoint_rule_mistakes(f, t, y, dt)) for _, f, t, y, dt, _, got, _ in runs
+              if _float64_miss(got, y, implicit_midpoint_reference(f, t, y, dt))]
+    named = next((h for h in (missed[0][1] if missed else ()) if all(
+        _alike(got, m[h]) for got, m in missed)), None)
+    for what, f, t, y, dt, keeps_norm, got, calls in runs:
+        _judge_midpoint_rule(ck, what, f, t, y, dt, keeps_norm, got, calls, named)
+
+
+def _alike(got, wrong) -> bool:
+    answer = as_array(got)
+    return answer is not None and answer.shape == np.shape(wrong) and bool(
+        np.allclose(answer, wrong, rtol=rtol_for(answer, 1e-9), atol=1e-12))
+
+
+def _float64_miss(got, y, expected) -> bool:
+    """A finite float64 answer of y's shape that misses the step (the cases a known mistake
+    may be named on; NaN, shapes and float32 answers are told their own way)."""
+    answer = as_array(got)
+    return (answer is not None and answer.shape == y.shape and bool(np.all(np.isfinite(answer)))
+            and rtol_for(answer, 1e-9) == 1e-9
+            and not np.allclose(answer, expected, rtol=1e-9, atol=1e-12))
+
+
+def _judge_midpoint_rule(ck, what, f, t, y, dt, keeps_norm, got, calls, named) -> None:
+    """Report one case of :func:`implicit_midpoint_step`; ``named`` is the mistake every
+    missed case shows (or None), ``calls`` how often the answer evaluated f here."""
+    expected = implicit_midpoint_reference(f, t, y, dt)
+    iterated, one_axis = calls > 4, shape_hint(y)
+    answer = as_array(got)
+    if answer is not None and answer.shape != y.shape:
+        ck.expect(False, what, f"expected shape {y.shape}, got shape {answer.shape}",
+                  one_axis or "return Y with y's shape")
+        return
+    if answer is not None and not np.all(np.isfinite(answer)):
+        stiff = f is _stiff  # the one case where an iteration that diverges is likely
+        ck.expect(False, what, "your step returned NaN or inf",
+                  ("fixed-point iteration Y <- y + dt f(t + dt/2, (y + Y)/2) is only sure to "
+                   "converge when dt |∂f/∂y| / 2 < 1, and here it is 12.5: use Newton's method "
+                   "on the residual, with a finite-difference Jacobian") if stiff and iterated
+                  else "look for a division by zero or an overflow in your step")
+        return
+    # The residual names the failure for a float64 answer; a float32 one is judged on its
+    # value alone (its rounding alone leaves a residual of ~1e-7).
+    if _float64_miss(got, y, expected):
         with np.errstate(all="ignore"):
-            mistakes = {
-                "that is the trapezoid: the implicit midpoint evaluates f once, at the average "
-                "state (y + Y)/2 and time t + dt/2": _trapezoid_reference(f, t, y, dt),
-                "that is the EXPLICIT midpoint: here the midpoint state is (y + Y)/2, with the "
-                "unknown end Y; solve for Y": y + dt * f(t + 0.5 * dt, mid),
-                "evaluate f at the middle of the step, time t + dt/2, not at t":
-                    implicit_midpoint_reference(lambda s, u, f=f, t=t: f(t, u), t, y, dt),
-                _FROZEN_T: implicit_midpoint_reference(lambda s, u, f=f, t=t: f(s - t, u),
-                                                       t, y, dt),
-            }
-        ok, got = pure_call(ck, what, student, f, t, y, dt)
-        if not ok:
-            continue
-        answer = as_array(got)
-        if answer is not None and answer.shape == y.shape and not np.all(np.isfinite(answer)):
-            stiff = f is _stiff  # the one case where an iteration that diverges is likely
-            ck.expect(False, what, "your step returned NaN or inf",
-                      ("fixed-point iteration Y <- y + dt f(t + dt/2, (y + Y)/2) is only sure to "
-                       "converge when dt |∂f/∂y| / 2 < 1, and here it is 12.5: use Newton's method "
-                       "on the residual, with a finite-difference Jacobian") if stiff else
-                      "look for a division by zero or an overflow in your iteration")
-            continue
-        # The residual names the failure for a float64 answer; a float32 one is judged on
-        # its value alone (its rounding alone leaves a residual of ~1e-7).
-        if answer is not None and answer.shape == y.shape and rtol_for(answer, 1e-9) == 1e-9 \
-                and not np.allclose(answer, expected, rtol=1e-9, atol=1e-12):
-            with np.errstate(all="ignore"):
-                res = float(np.max(np.abs(answer - y - dt * f(t + 0.5 * dt, 0.5 * (y + answer)))))
-            scale = max(1.0, float(np.max(np.abs(y))))
-            hint = None
-            if np.max(np.abs(answer)) > 10 * scale:
-                hint = ("your iteration diverged: fixed-point iteration Y <- y + dt f(t + dt/2, "
-                        "(y + Y)/2) is only sure to converge when dt |∂f/∂y| / 2 < 1 (then it is "
-                        "a contraction). Use Newton's method on the residual, with a "
-                        "finite-difference Jacobian")
-            for mistake, wrong in ({} if hint else mistakes).items():
-                if np.allclose(answer, wrong, rtol=rtol_for(answer, 1e-9), atol=1e-12):
-                    hint = mistake
-                    break
-            if hint is None and res <= 1e-10 * scale:
-                hint = ("your Y solves the equation but is not the step's answer: another root. "
-                        "Start the iteration close to y (a forward Euler guess)")
-            ck.expect(False, what, f"your Y leaves a residual of {res:.2g} in "
-                      f"Y - y - dt f(t + dt/2, (y + Y)/2) = 0; the check wants round-off, below "
-                      f"1e-10 × {scale:g}", hint or "iterate until the residual is at round-off "
-                      "(a few Newton steps; fixed-point iteration converges slowly or not at all)")
-            continue
-        if close(ck, got, expected, what, rtol=1e-9, atol=1e-12,
-                 hint="Y = y + dt f(t + dt/2, (y + Y)/2), solved for Y", mistakes=mistakes) \
-                and keeps_norm and answer.ndim == 1:
-            ck.passed[-1] += " (and |Y| = |y|)"
+            res = float(np.max(np.abs(answer - y - dt * f(t + 0.5 * dt, 0.5 * (y + answer)))))
+        scale = max(1.0, float(np.max(np.abs(y))))
+        hint = named
+        if hint is None and res <= 1e-10 * scale:
+            hint = ("your Y solves the equation but is not the step's answer: another root. "
+                    "Start the iteration close to y (a forward Euler guess)")
+        if hint is None and not iterated:
+            hint = (f"your step evaluated f only {calls} time(s): no formula of known values "
+                    "gives Y, which appears on both sides of the equation. Solve for it, e.g. "
+                    "with Newton's method on the residual")
+        if hint is None and np.max(np.abs(answer)) > 10 * scale:
+            hint = ("your iteration diverged: fixed-point iteration Y <- y + dt f(t + dt/2, "
+                    "(y + Y)/2) is only sure to converge when dt |∂f/∂y| / 2 < 1 (then it is "
+                    "a contraction). Use Newton's method on the residual, with a "
+                    "finite-difference Jacobian")
+        ck.expect(False, what, f"your Y leaves a residual of {res:.2g} in "
+                  f"Y - y - dt f(t + dt/2, (y + Y)/2) = 0; the check wants round-off, below "
+                  f"1e-10 × {scale:g}", hint or "iterate until the residual is at round-off "
+                  "(a few Newton steps; fixed-point iteration converges slowly or not at all)")
+        return
+    if close(ck, got, expected, what, rtol=1e-9, atol=1e-12, mistakes=midpoint_rule_mistakes(f, t, y, dt),
+             hint="Y = y + dt f(t + dt/2, (y + Y)/2), solved for Y") \
+            and keeps_norm and answer.ndim == 1:
+        ck.passed[-1] += " (and |Y| = |y|)"
 
 
-def _trapezoid_reference(f, t, y, dt):
-    from scipy.optimize import root
-
-    f0 = f(t, y)
-
-    def residual(flat):
-        Y = flat.reshape(y.shape)
-        return (Y - y - 0.5 * dt * (f0 + f(t + dt, Y))).ravel()
-
-    return root(residual, (y + dt * f0).ravel(), tol=1e-14).x.reshape(y.shape)

@@ -36,7 +36,9 @@ class FollowerPlot(BlitPlot):
         super().__init__(fig, blit)
         ax_x, ax_r = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.25, 1.0]})
         self.ax_x, self.ax_r = ax_x, ax_r
-        (self.exact,) = ax_x.plot([], [], **EXACT_STYLE, label="exact x(t)")
+        # drawn on top: backward Euler follows it so closely that it would hide it
+        (self.exact,) = ax_x.plot([], [], **{**EXACT_STYLE, "zorder": 5},
+                                  label="exact x(t) (left panel)")
         self.lines = {}
         for m in FOLLOWER_METHODS:
             (self.lines[m],) = ax_x.plot([], [], "-", marker=_MARKERS[m], ms=3.5, lw=1.1,
@@ -56,13 +58,15 @@ class FollowerPlot(BlitPlot):
         self.vline = ax_r.axvline(1.0, color="0.3", lw=1.0, ls=":")
         self.dots = {m: ax_r.plot([], [], _MARKERS[m], color=METHOD_COLORS[m], ms=7,
                                   mec="black")[0] for m in FOLLOWER_METHODS}
-        # one legend for both panels, where no curve goes: an unstable run sweeps the left one
-        ax_r.legend(handles=[self.exact, *self.lines.values()], loc="lower left", fontsize=8,
-                    framealpha=0.95)
+        # one legend for both panels, below them: an unstable run sweeps the left panel, and
+        # the exact curve is only there
+        fig.legend(handles=[self.exact, *self.lines.values()], loc="lower center", ncol=6,
+                   fontsize=8, frameon=False, bbox_to_anchor=(0.5, 0.0))
         self.title_r = ax_r.set_title("amplification per step on the negative real axis",
                                       fontsize=10, y=1.01)
-        fig.subplots_adjust(left=0.06, right=0.98, top=0.86, bottom=0.13, wspace=0.2)
-        self.dynamic = [self.exact, *self.lines.values(), self.title_x, self.vline,
+        fig.subplots_adjust(left=0.06, right=0.98, top=0.86, bottom=0.2, wspace=0.2)
+        # drawn in this order when blitting: the exact curve on top, as in a full redraw
+        self.dynamic = [*self.lines.values(), self.exact, self.title_x, self.vline,
                         *self.dots.values()]
 
     def __call__(self, result: FollowerResult):
