@@ -131,8 +131,10 @@ def simulate(cloth: Cloth, method: str = "symplectic_euler", *, frames: int = 60
     particle to the pins at ``s`` times its rest distance (Kim et al. 2012; see
     :class:`~course_lib.largestep.attachments.LongRangeAttachments`). ``options`` go to the
     solver's constructor (e.g. ``{"memory": 0}`` for plain local/global). With
-    ``strain_limit=τ`` every spring is kept within ``(1 + τ)`` times its rest length after
-    every step (Provot 1995). Then ``post_step(t, y)`` (e.g.
+    ``strain_limit=τ`` every step is followed by Provot's (1995) strain limiting
+    (:class:`~course_lib.largestep.strain_limit.StrainLimiter`): sweeps until no spring's
+    strain exceeds ``τ (1 + 0.01)``, at most 1,000 per step (enough unless the pins hold
+    the cloth farther apart than the limit allows). Then ``post_step(t, y)`` (e.g.
     :func:`course_lib.collisions.sphere`) may change the stacked state ``y = (x, v)``.
     A run whose coordinates pass ``blowup_bound`` (m or m/s) or stop being finite ends
     there; later frames are NaN. Damping (the network's ``c``) acts in every method.

@@ -276,6 +276,55 @@ def test_strain_limit_meets_its_bound_and_keeps_pins():
     assert np.array_equal(StrainLimiter(one, 1.0, 0.1).apply(short, np.zeros_like(short), 1.0)[0], short)
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("tau", [0.005, 0.02, 0.1])
+def test_strain_limit_guarantees_its_bound(seed, tau):
+    # The guarantee: after apply no limited spring is strained beyond tau (1 + tolerance).
+    # The pins hold two corners at their rest distance, so every limit can be met.
+    x0, net, mass, pins = small_cloth(9)
+    rng = np.random.default_rng(seed)
+    x = x0 * rng.uniform(1.0, 1.4, 3) + 0.01 * rng.normal(size=x0.shape)
+    x[pins] = x0[pins]
+    # A cloth stretched by up to 40 % needs many sweeps (a sweep carries a correction a
+    # spring or two): given enough it meets the bound.
+    far = StrainLimiter(net, mass, tau, pinned=pins, iterations=3000)
+    assert far.violation(x) > 2.5 * tau
+    y, _ = far.apply(x, np.zeros_like(x), 0.01)
+    assert far.converged and net.strain(y).max() <= tau * (1 + far.tolerance) + 1e-12
+    assert far.last_violation == far.violation(y) <= tau * far.tolerance
+    assert np.array_equal(y[pins], x[pins])
+    # A step moves a limited cloth a little (here every particle up to a tenth of a
+    # spring's length times tau): the default sweeps bring it back within the bound.
+    z = y + 0.1 * tau * 0.05 * rng.normal(size=y.shape)
+    z[pins] = y[pins]
+    limiter = StrainLimiter(net, mass, tau, pinned=pins)
+    assert limiter.violation(z) > 0.05 * tau
+    w, _ = limiter.apply(z, np.zeros_like(z), 0.01)
+    assert limiter.converged and 0 < limiter.sweeps < limiter.iterations
+    assert net.strain(w).max() <= tau * (1 + limiter.tolerance) + 1e-12
+    # a tighter tolerance takes more sweeps and meets it
+    tight = StrainLimiter(net, mass, tau, pinned=pins, tolerance=1e-4, iterations=5000)
+    w, _ = tight.apply(z, np.zeros_like(z), 0.01)
+    assert tight.converged and tight.sweeps > limiter.sweeps
+    assert net.strain(w).max() <= tau * (1 + 1e-4) + 1e-12
+
+
+def test_strain_limit_says_when_it_cannot_meet_its_bound():
+    # Two pins 2 m apart joined by a chain of two 0.5 m springs: no position of the middle
+    # particle brings both within 10 % (at best, in the middle, both are strained 100 %).
+    # The limiter stops after its sweeps and says so.
+    net = S.SpringNetwork([0, 1], [1, 2], 0.5, 10.0, 0.0, 3)
+    x = np.array([[0.0, 0.0, 0.0], [0.3, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    limiter = StrainLimiter(net, 1.0, 0.1, pinned=[0, 2], iterations=7)
+    y, _ = limiter.apply(x, np.zeros_like(x), 0.1)
+    assert not limiter.converged and limiter.sweeps == 7
+    assert limiter.last_violation == limiter.violation(y) >= 1.0 - 0.1
+    assert np.array_equal(y[[0, 2]], x[[0, 2]])
+    for bad in ({"tolerance": -0.1}, {"iterations": 0}):
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            StrainLimiter(net, 1.0, 0.1, **bad)
+
+
 def test_coloured_springs_skip_springs_between_pinned_particles():
     net = S.SpringNetwork([0, 1, 2], [1, 2, 3], 1.0, 1.0, 0.0, 4)
     sets = ColouredSprings(net, np.array([0.0, 0.0, 1.0, 1.0]))
