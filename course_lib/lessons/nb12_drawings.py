@@ -4,13 +4,15 @@ Holds the stiffness of PBD and XPBD against the iteration count
 (:func:`draw_stiffness`), the convergence of one implicit step (:func:`draw_convergence`),
 the measured comparison (:func:`draw_comparison`), the drape (:func:`draw_drape`,
 :func:`animate_drape`, :func:`showcase_animation` for the course's clips), and the widget:
-:class:`FramePlot` redraws one frame of :func:`~course_lib.lessons.nb12_constraints.
+:class:`FramePlot` redraws one frame of :func:`~course_lib.lessons.nb12_frames.
 frame_experiment` in place, :func:`frame_explorer` wires it to controls and
 :func:`frame_player` precomputes it for readers without a kernel.
-Lesson layer: imports matplotlib, the view helpers and the lesson's compute module.
+Lesson layer: imports matplotlib, the view helpers and the lesson's compute modules.
 """
 
 from __future__ import annotations
+
+import html
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -19,7 +21,9 @@ from matplotlib.colors import LogNorm
 from matplotlib.ticker import FixedLocator, NullLocator
 
 from ..plotting import EXACT_STYLE, METHOD_COLORS, detached_figure
+from ..widgets import BlitPlot, PictureView
 from . import nb12_constraints as lesson
+from . import nb12_frames as frames
 
 COLORS = {"symplectic_euler": METHOD_COLORS["symplectic_euler"],
           "baraff_witkin": METHOD_COLORS["backward_euler"], "fast_mass_spring": "#2ca02c",
@@ -172,29 +176,33 @@ def _mesh_line(x, shape) -> np.ndarray:
     return np.concatenate(lines)
 
 
-class FramePlot:
+class FramePlot(BlitPlot):
     """The widget's figure: the cloth in an oblique view (start of the frame grey, end dark
     with every particle coloured by the largest strain of its structural springs) and the
-    peak strain against the converged frame's; redrawn in place (one line and one scatter,
-    so a redraw stays fast)."""
+    peak strain against the converged frame's. Its axes never change: with ``blit=True``
+    (the live widget) everything else is drawn once and a redraw draws only the two
+    meshes, the particles and the two bars. The title (:meth:`describe`; ``title``,
+    default ``not blit``) would cost more than all of them to draw: the live widget shows
+    it as text above the picture (:class:`FrameView`)."""
 
-    def __init__(self, fig=None):
+    def __init__(self, fig=None, *, blit: bool = False, title: bool | None = None):
         if fig is None:
             fig = detached_figure((9.5, 3.6))
             fig.set_dpi(80)
-        self.fig = fig
+        super().__init__(fig, blit)
+        title = not blit if title is None else title
         self.ax, self.bar_ax = self.fig.subplots(1, 2, gridspec_kw={"width_ratios": [2.2, 1]})
-        self.fig.subplots_adjust(left=0.08, right=0.97, bottom=0.15, top=0.84, wspace=0.4)
+        self.fig.subplots_adjust(left=0.08, right=0.97, bottom=0.15, top=0.84 if title else 0.95,
+                                 wspace=0.4)
         self.start, = self.ax.plot([], [], color="0.8", lw=0.5, label="start of the frame")
         self.end, = self.ax.plot([], [], color="0.25", lw=0.4, label="end")
         self.dots = self.ax.scatter([], [], c=[], s=5, cmap="viridis", norm=LogNorm(0.01, 10.0),
-                                    zorder=3)
+                                    linewidths=0, zorder=3)
         bar = self.fig.colorbar(self.dots, ax=self.ax, pad=0.01)
         bar.set_label("strain at the end (%)")
         bar.set_ticks([0.01, 0.1, 1, 10], labels=["0.01", "0.1", "1", "10"])
         bar.ax.yaxis.set_minor_locator(NullLocator())
-        # An oblique view: screen coordinates mean little, so no ticks (text is what costs
-        # most in a redraw).
+        # An oblique view: screen coordinates mean little, so no ticks.
         self.ax.set(xlim=(-0.45, 0.4), ylim=(-0.6, 0.12), aspect="equal", xticks=[], yticks=[],
                     xlabel="the cloth, oblique view (32 × 32, pinned at two corners)")
         self.ax.legend(handles=[self.start, self.end], loc="lower left", fontsize=8)
@@ -205,19 +213,24 @@ class FramePlot:
         self.bar_ax.yaxis.set_major_locator(FixedLocator([0.01, 0.1, 1, 10, 100, 1000]))
         self.bar_ax.yaxis.set_minor_locator(NullLocator())
         self.bar_ax.set_yticklabels(["0.01", "0.1", "1", "10", "100", "1000"])
-        self.title = self.fig.suptitle("", fontsize=10)
+        self.title = self.fig.suptitle("", fontsize=10) if title else None
+        self.dynamic = [self.start, self.end, self.dots, *self.bars]
+        self._struct = None
 
     def __call__(self, result):
         c = result.cloth
         net = c.network
+        if self._struct is None or self._struct[0] is not net:
+            struct = net.kind == "struct"
+            self._struct = (net, struct, net.i[struct], net.j[struct])
+        _, struct, i, j = self._struct
         self.start.set_data(*_mesh_line(result.x_start, c.shape).T)
         if result.stable:
             self.end.set_data(*_mesh_line(result.x_end, c.shape).T)
-            struct = net.kind == "struct"
             worst = np.zeros(c.n)
             s = np.abs(result.strain[struct])
-            np.maximum.at(worst, net.i[struct], s)
-            np.maximum.at(worst, net.j[struct], s)
+            np.maximum.at(worst, i, s)
+            np.maximum.at(worst, j, s)
             self.dots.set_offsets(project(result.x_end))
             self.dots.set_array(np.maximum(100 * worst, 0.01))
         else:
@@ -228,29 +241,54 @@ class FramePlot:
         self.bars[0].set_height(max(peak, 0.005))
         self.bars[0].set_color(COLORS[result.params["method"]] if result.stable else "C3")
         self.bars[1].set_height(100 * result.reference_peak)
-        p = result.params
-        self.title.set_text(f"{lesson.METHOD_NAMES[p['method']]}, stiffness ×{p['stiffness']:g}, "
-                            f"{p['iterations']} iterations: {result.verdict}")
+        if self.title is not None:
+            self.title.set_text(self.describe(result))
         return self.fig
+
+    @staticmethod
+    def describe(result) -> str:
+        """The title: method, stiffness, iterations and the verdict."""
+        p = result.params
+        return (f"{lesson.METHOD_NAMES[p['method']]}, stiffness ×{p['stiffness']:g}, "
+                f"{p['iterations']} iterations: {result.verdict}")
+
+
+class FrameView(PictureView):
+    """:class:`~course_lib.widgets.PictureView` with the frame's title as a line of text
+    above the picture (:meth:`FramePlot.describe`)."""
+
+    def __init__(self, compute, draw, controls, fixed=None, name: str = "Explorer"):
+        import ipywidgets as w
+
+        self.caption = w.HTML(value="")
+        super().__init__(compute, draw, controls, fixed, name=name)
+        head, image = self.widget.children
+        self.widget.children = (head, self.caption, image)
+
+    def update(self) -> None:
+        super().update()
+        self.caption.value = f"<b>{html.escape(self.draw.describe(self.result))}</b>"
 
 
 def frame_explorer(method: str = "fast_mass_spring", stiffness: float = 100.0, iterations: int = 10):
     """The widget: method, stiffness and iterations over
-    :func:`~course_lib.lessons.nb12_constraints.frame_experiment` (32²), one
-    :class:`FramePlot` redrawn in place."""
+    :func:`~course_lib.lessons.nb12_frames.frame_experiment` (32²), one :class:`FramePlot`
+    redrawn in place (blitted) and shown as a picture. Building it loads what every
+    stiffness needs and factors fast mass-springs' matrices
+    (:func:`~course_lib.lessons.nb12_frames.warm_up`), so no first visit waits."""
     import ipywidgets as w
 
-    from .busy_view import BusyExplorerView
-
+    frames.warm_up()
     controls = {
         "method": w.Dropdown(options=[(v, k) for k, v in lesson.METHOD_NAMES.items()],
                              value=method, description="method"),
-        "stiffness": w.SelectionSlider(options=[1.0, 10.0, 100.0, 1000.0], value=stiffness,
+        "stiffness": w.SelectionSlider(options=list(frames.WIDGET_FACTORS), value=stiffness,
                                        description="stiffness ×", continuous_update=False),
         "iterations": w.IntSlider(value=iterations, min=1, max=50, description="iterations",
                                   continuous_update=False),
     }
-    return BusyExplorerView(lesson.frame_experiment, FramePlot(), controls)
+    return FrameView(frames.frame_experiment, FramePlot(blit=True), controls,
+                     name="Frame explorer")
 
 
 def frame_player(method: str = "xpbd", stiffness: float = 100.0,
@@ -259,7 +297,7 @@ def frame_player(method: str = "xpbd", stiffness: float = 100.0,
     from ..players import parameter_player
 
     return parameter_player(
-        lesson.frame_experiment, FramePlot(), "iterations", iterations,
+        frames.frame_experiment, FramePlot(), "iterations", iterations,
         fixed={"method": method, "stiffness": stiffness}, fmt="{:d}", colors=32,
         title=f"Without a kernel: {lesson.METHOD_NAMES[method]}, stiffness ×{stiffness:g}; "
               "slide the iterations", caption=lambda r: r.verdict)
