@@ -218,10 +218,24 @@ def answer_is_reference(answer: object, check: Callable) -> str | None:
     return None
 
 
+def public_name(name: str) -> str:
+    """``name`` as a user imports it: from its first private segment on, only its last name
+    (``scipy.integrate._ivp.ivp.solve_ivp`` -> ``scipy.integrate.solve_ivp``)."""
+    parts = name.split(".")
+    private = [k for k, p in enumerate(parts[:-1]) if p.startswith("_") and not p.startswith("__")]
+    return ".".join(parts[:private[0]] + parts[-1:]) if private else name
+
+
 def message(found: list[str], itself: bool = False) -> str:
     """The verdict line for an answer that uses the library (the grader matches its start)."""
+    found = list(dict.fromkeys(public_name(f) for f in found))
     what = ("your answer is the library's own " if itself else "your function calls ") + ", ".join(found[:3])
     outside = [f for f in found if not f.startswith(("course_lib", "a function of course_lib"))]
+    if outside and len(outside) == len(found):       # only a refused outside library
+        return (f"uses the reference: {what}, and this exercise refuses "
+                f"{', '.join(outside[:3])}: it asks you to write the computation yourself "
+                "(anything the check passes to your function is fine); an answer that calls "
+                "it earns no points")
     fine = ("anything the check passes to your function is fine, but this exercise refuses "
             + ", ".join(outside[:3])) if outside else (
         "NumPy and SciPy are fine, and so is anything the check passes to your function")
