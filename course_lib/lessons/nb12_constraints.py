@@ -52,7 +52,7 @@ def chain(n: int = 5, k: float = 50.0, rest: float = 0.1):
     return x0, springs.SpringNetwork(np.arange(n - 1), np.arange(1, n), rest, k, 0.0, n)
 
 
-def settled_sag(solver, x0, steps: int = 200, h: float = 0.01, drag: float = 0.85) -> float:
+def settled_sag(solver, x0, steps: int = 120, h: float = 0.01, drag: float = 0.85) -> float:
     """How far the last particle hangs below its rest position (m) once at rest (the
     velocity is scaled by ``drag`` after every step, so the chain settles)."""
     x, v = x0.copy(), np.zeros_like(x0)

@@ -292,7 +292,7 @@ def frame_explorer(method: str = "fast_mass_spring", stiffness: float = 100.0, i
 
 
 def frame_player(method: str = "xpbd", stiffness: float = 100.0,
-                 iterations=(1, 2, 5, 10, 20, 40)):
+                 iterations=(1, 4, 10, 40)):
     """The widget's iterations slider, precomputed (no kernel needed)."""
     from ..players import parameter_player
 
