@@ -7,7 +7,8 @@ processes too (outside a kernel the view computes and draws off-screen
 with Agg, the same compute and draw functions the notebook runs). We time its default
 settings, then sweep the settings that cost most (every method at the smallest step, the
 largest step, stiffness and damping at their ends) and report the slowest; the hair
-widget is also timed on bending stiffnesses it has never seen (a fresh equilibrium).
+widget is also timed on bending stiffnesses it has never seen (a fresh equilibrium), and
+the large-step cloth widget on the first visit to each of its stiffnesses.
 """
 
 from __future__ import annotations
@@ -26,7 +27,8 @@ from benchmarks.timing import Row
 DEFAULT_TARGET = 0.100   # s, one update at the default settings
 ANYWHERE_TARGET = 0.250  # s, one update anywhere on the sliders
 
-#: (label, notebook prefix, factory name)
+#: (label, notebook prefix, factory name[, controls whose every value is timed on its first
+#: visit, from a freshly built widget])
 WIDGETS = [
     ("02 spiral explorer", "nb02", "spiral_explorer"),
     ("03 stability explorer", "nb03", "stability_explorer"),
@@ -34,7 +36,7 @@ WIDGETS = [
     ("05 energy explorer", "nb05", "energy_explorer"),
     ("07 spring widget", "nb07", "spring_explorer"),
     ("08 hair widget", "nb08", "held_strand_explorer"),
-    ("12 large-step cloth widget (32²)", "nb12", "frame_explorer"),
+    ("12 large-step cloth widget (32²)", "nb12", "frame_explorer", ("stiffness",)),
 ]
 
 
@@ -123,11 +125,14 @@ def run(quick: bool = False) -> list[Row]:
 
     use_course_style()
     rows = []
-    for k, (label, prefix, name) in enumerate(WIDGETS):
+    for k, (label, prefix, name, *visits) in enumerate(WIDGETS):
         try:
             # a quick run (the test suite's smoke test) sweeps the first widget only: every
             # widget's sliders are exercised at their ends by tests/test_widget_ends.py
-            rows += widget_rows(label, find_factory(prefix, name), quick, sweep_it=not quick or k == 0)
+            factory = find_factory(prefix, name)
+            rows += widget_rows(label, factory, quick, sweep_it=not quick or k == 0)
+            if visits and not quick:
+                rows += first_visit_rows(label, factory, visits[0])
         except Exception as exc:                          # one broken widget fails its row only
             rows.append(Row(f"widget {label}", None, "runs", False,
                             note=f"crashed: {type(exc).__name__}: {exc}"[:100]))
@@ -158,4 +163,20 @@ def widget_rows(label: str, factory, quick: bool, sweep_it: bool = True) -> list
         rows.append(Row(f"widget {label}: new bending stiffness (fresh equilibrium)", mid,
                         f"≤ {ANYWHERE_TARGET * 1e3:.0f} ms", mid <= ANYWHERE_TARGET,
                         note=f"wall {WALL_TIMES[mid] * 1e3:.0f} ms"))
+    return rows
+
+
+def first_visit_rows(label: str, factory, names) -> list[Row]:
+    """For each control in ``names``: every value but the default, each the first time a
+    freshly built widget sees it (what the widget did not prepare at construction shows
+    here); the slowest, against the default-settings target."""
+    rows = []
+    for name in names:
+        view = factory()
+        values = [v for v in option_values(view.controls[name]) if v != view.controls[name].value]
+        times = {v: timed_update(view, name, v) for v in values}
+        value, seconds = max(times.items(), key=lambda kv: kv[1])
+        rows.append(Row(f"widget {label}: first visit to each {name} (slowest of {len(values)})",
+                        seconds, f"≤ {DEFAULT_TARGET * 1e3:.0f} ms", seconds <= DEFAULT_TARGET,
+                        note=f"at {name} = {value:g}; wall {WALL_TIMES[seconds] * 1e3:.0f} ms"))
     return rows
