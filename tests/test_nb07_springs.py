@@ -4,6 +4,7 @@ import itertools
 
 import numpy as np
 import pytest
+from notebook_helpers import printed_holds
 from planted import Plant, define, judge
 
 import course_lib as cl
@@ -205,53 +206,144 @@ def test_damped_limit_against_theory():
     assert nb07.limit_text(2 / w) == "stable for dt < 0.632 s"
 
 
-def test_damped_limit_table():
+def test_the_cliff_at_two_over_omega():
+    """Section 4's right panel and prose: bounded just below 2/ω, astronomical just above."""
+    unit = 2 / np.sqrt(16.0 / M)
+    below, above = nb07.growth("symplectic_euler", 16.0, M, 0.0, [0.99 * unit, 1.01 * unit],
+                               cap=1e300)
+    ellipse = 1 / np.sqrt(1 - 0.99**2)            # the modified energy's ellipse: max |x| / x0
+    assert below <= ellipse * (1 + 1e-12) and below == pytest.approx(ellipse, rel=1e-3)
+    # 1000 steps of a 2x2 product: relative round-off far below 1e-10
+    printed_holds(below, ".2f", "7.09", 1e-10 * below)
+    printed_holds(ellipse, ".2f", "7.09", 1e-12)
+    rho = nb07.spectral_radius(nb07.step_matrix("symplectic_euler", 16.0, M, 0.0, 1.01 * unit))
+    assert np.log10(above) == pytest.approx(1000 * np.log10(rho), abs=1.0)
+    printed_holds(above, ".0e", "2e+123", 1e-10 * above)
+    # the bisection's bound: a state of 1.5 from a 1 nm stretch is a growth by 1.5e9, which
+    # a step 1e-4 above the limit already passes in 1000 steps (so it resolves the limit)
+    assert nb07.growth("symplectic_euler", 16.0, M, 0.0, [1.0001 * unit])[0] > 1.5e9
+
+
+def _jury_vv(zeta, w):
+    """Velocity Verlet on the damped spring: both Jury conditions, in w = ω dt."""
+    q = 1 - zeta * w
+    return abs(q) < 1 and w * w * (1 + q) < 4 * (1 + q * q)
+
+
+def test_velocity_verlet_windows_from_the_jury_conditions():
+    # det S = q², tr S = 1 + q² - w²(1 + q)/2, and P = 2 (1 + det + tr)
+    for zeta, w in [(0.3, 1.7), (0.7, 3.1), (0.5, 2.9), (1.5, 0.4)]:
+        S = nb07.step_matrix("velocity_verlet", 1.0, 1.0, 2 * zeta, w)
+        q = 1 - zeta * w
+        assert np.trace(S) == pytest.approx(1 + q * q - 0.5 * w * w * (1 + q), rel=1e-12)
+        assert np.linalg.det(S) == pytest.approx(q * q, rel=1e-12, abs=1e-14)
+        P = zeta * w**3 + (4 * zeta**2 - 2) * w**2 - 8 * zeta * w + 8
+        assert P == pytest.approx(2 * (1 + np.linalg.det(S) + np.trace(S)), rel=1e-10)
+    for zeta in (0.1, 0.3, 0.6, 2.0):            # P(0) = P(2/ζ) = 8
+        assert zeta * (2 / zeta) ** 3 + (4 * zeta**2 - 2) * (2 / zeta) ** 2 - 16 + 8 == \
+            pytest.approx(8.0, rel=1e-12)
+    # at ζ = 0.5: P = (w - 2)(w² - 8)/2, windows ω dt < 2 and 2√2 < ω dt < 4
+    windows = nb07.velocity_verlet_windows(1.0, 1.0, 1.0)
+    assert np.allclose(windows, [(0.0, 2.0), (2 * np.sqrt(2), 4.0)], rtol=1e-12)
+    # the windows are exactly where the Jury conditions hold, on a fine grid of w
+    for zeta in (0.05, 0.25, 0.4, 0.5, 0.52, 0.53, 0.75, 1.0, 3.0):
+        windows = nb07.velocity_verlet_windows(1.0, 1.0, 2 * zeta)
+        for w in np.linspace(1e-3, 2 / zeta + 0.5, 4001):
+            inside = any(lo < w < hi for lo, hi in windows)
+            edge = any(min(abs(w - lo), abs(w - hi)) < 1e-9 for lo, hi in windows)
+            assert edge or inside == _jury_vv(zeta, w), (zeta, w)
+        assert len(windows) == (2 if zeta < 0.5263 else 1)
+    # ζ* from the discriminant, 16 u³ + 8 u² + 11 u = 4 with u = ζ²; the gap closes there
+    zeta_star, w_star = nb07.velocity_verlet_gap_end()
+    u = zeta_star**2
+    assert 16 * u**3 + 8 * u**2 + 11 * u == pytest.approx(4.0, rel=1e-14)
+    assert len(nb07.velocity_verlet_windows(1.0, 1.0, 2 * (zeta_star - 1e-4))) == 2
+    assert len(nb07.velocity_verlet_windows(1.0, 1.0, 2 * (zeta_star + 1e-6))) == 1
+    P = zeta_star * w_star**3 + (4 * zeta_star**2 - 2) * w_star**2 - 8 * zeta_star * w_star + 8
+    assert abs(P) < 1e-12                       # a double root: P and P' vanish together
+    # printed: "zeta* = 0.5263 ... jumps from 1.147 to 1.900 x 2/ω"; prose 0.526, 1.15, 1.90
+    printed_holds(zeta_star, ".4f", "0.5263", 1e-12)
+    printed_holds(w_star / 2, ".3f", "1.147", 1e-10)
+    printed_holds(1 / zeta_star, ".3f", "1.900", 1e-12)
+    assert (round(zeta_star, 3), round(w_star / 2, 2), round(1 / zeta_star, 2)) == (0.526, 1.15, 1.9)
+
+
+@pytest.mark.parametrize("method", ["forward_euler", "midpoint", "heun", "rk4", "symplectic_euler",
+                                    "velocity_verlet", "backward_euler", "trapezoidal"])
+def test_stable_windows_against_a_dense_scan(method):
+    """stable_windows (what the widget says) is every step the step matrix keeps bounded,
+    for damping ratios 0 to 10: the Runge-Kutta methods' set is one interval."""
+    for zeta in (0.0, 0.05, 0.2, 0.35, 0.5, 0.51, 0.6, 1.0, 2.5, 10.0):
+        c = 2 * zeta * np.sqrt(K * M)
+        windows = nb07.stable_windows(method, K, M, c)
+        top = 2.2 / (zeta * np.sqrt(K / M)) if zeta else 3.0 / np.sqrt(K / M)
+        grid = np.linspace(1e-4, top, 6000)
+        for dt in grid[::7] if method in ("backward_euler", "trapezoidal") else grid:
+            rho = nb07.spectral_radius(nb07.step_matrix(method, K, M, c, dt))
+            inside = any(lo < dt < hi for lo, hi in windows)
+            if any(min(abs(dt - lo), abs(dt - hi)) < 1e-9 * top for lo, hi in windows):
+                continue
+            if abs(rho - 1) < 1e-12:          # marginal within round-off: either verdict
+                continue
+            assert inside == (rho <= 1 + 1e-13), (method, zeta, dt, rho, windows)
+
+
+def test_damped_stable_sets_table_and_simulations():
+    """Section 5's table, the scan against the formulas, and the four 3D runs."""
     c_crit = S.critical_damping(K, M)
     w = np.sqrt(K / M)
-    printed = {0.0: (0.632456, 1.0), 0.25: (0.493806, 0.78078), 0.5: (0.390879, 0.61803),
-               1.0: (0.261972, 0.41421), 2.0: (0.149302, 0.23607), 4.0: (0.077859, 0.12311)}
-    for zeta, (limit, ratio) in printed.items():
-        lim = nb07.damped_dt_limit("symplectic_euler", K, M, zeta * c_crit)
-        assert lim == pytest.approx(limit, abs=5e-7) and lim * w / 2 == pytest.approx(ratio, abs=5e-6)
-        assert lim * w / 2 == pytest.approx(np.sqrt(1 + zeta**2) - zeta, rel=1e-12)
-        if zeta:
-            assert round(2 * M / (zeta * c_crit), 4) == {0.25: 1.2649, 0.5: 0.6325, 1.0: 0.3162,
-                                                         2.0: 0.1581, 4.0: 0.0791}[zeta]
-    # "critical damping cuts the step to 0.41 of the undamped limit, and twice critical to 0.24"
+    unit = 2 / w
+    grid = np.linspace(0.001, 2.6, 521) * unit
+    printed = {"symplectic_euler": {0.0: "< 1.00000", 0.25: "< 0.78078", 0.5: "< 0.61803",
+                                    1.0: "< 0.41421", 2.0: "< 0.23607"},
+               "velocity_verlet": {0.0: "< 1.00000", 0.25: "< 0.91598",
+                                   0.5: "< 1.00000 and 1.41421 to 2.00000", 1.0: "< 1.00000",
+                                   2.0: "< 0.50000"}}
+    for method, rows in printed.items():
+        for zeta, text in rows.items():
+            found = nb07.scan_windows(method, K, M, zeta * c_crit, grid)
+            formula = nb07.stable_windows(method, K, M, zeta * c_crit)
+            assert len(found) == len([f for f in formula if f[0] < grid[-1]])
+            assert np.allclose(found, np.minimum(formula, grid[-1])[:len(found)], rtol=1e-9)
+            parts = []
+            for lo, hi in found:           # bisected to 1e-14: 1e-10 of spread is generous
+                if lo:
+                    printed_holds(lo / unit, ".5f", f"{lo / unit:.5f}", 1e-10)
+                printed_holds(hi / unit, ".5f", f"{hi / unit:.5f}", 1e-10)
+                parts.append(f"< {hi / unit:.5f}" if lo == 0 else f"{lo / unit:.5f} to {hi / unit:.5f}")
+            assert " and ".join(parts) == text, (method, zeta)
+        for zeta in rows:                  # symplectic Euler: (2/ω)(√(1 + ζ²) - ζ)
+            if method == "symplectic_euler":
+                lim = nb07.symplectic_euler_limit(K, M, zeta * c_crit)
+                assert lim / unit == pytest.approx(np.sqrt(1 + zeta**2) - zeta, rel=1e-12)
+    # prose: 0.41 and 0.24 of the undamped limit; Verlet's first window 0.92 at ζ = 0.25;
+    # past ζ* the limit is 4/γ, twice symplectic Euler's 2/γ for strong damping
     assert round(np.sqrt(2) - 1, 2) == 0.41 and round(np.sqrt(5) - 2, 2) == 0.24
-    # "for strong damping the limit approaches 2/gamma"
+    assert round(nb07.velocity_verlet_windows(K, M, 0.25 * c_crit)[0][1] / unit, 2) == 0.92
+    for zeta in (0.6, 1.0, 2.0, 10.0):
+        (lo, hi), = nb07.stable_windows("velocity_verlet", K, M, zeta * c_crit)
+        assert hi == pytest.approx(4 * M / (zeta * c_crit), rel=1e-12)
     big = 1e4 * c_crit
-    assert nb07.damped_dt_limit("symplectic_euler", K, M, big) == pytest.approx(2 * M / big, rel=1e-6)
-    # velocity Verlet: not monotone in the damping; printed 0.579316 (0.91598) at 0.25, the
-    # undamped 0.632456 at 0.5 and 1, then 4/gamma: 0.316228 at 2 and 0.158114 at 4
-    printed_vv = {0.0: 0.632456, 0.25: 0.579316, 0.5: 0.632456, 1.0: 0.632456, 2.0: 0.316228,
-                  4.0: 0.158114}
-    for zeta, limit in printed_vv.items():
-        lim = nb07.damped_dt_limit("velocity_verlet", K, M, zeta * c_crit)
-        assert lim == pytest.approx(limit, abs=5e-7)
-        # the Jury conditions of the notebook: gamma dt < 4 and w² dt² (1 + q) < 4 (1 + q²)
-        gamma = zeta * c_crit / M
-
-        def jury(dt, gamma=gamma):
-            q = 1 - gamma * dt / 2
-            return gamma * dt < 4 and (w * dt) ** 2 * (1 + q) < 4 * (1 + q * q)
-
-        assert jury(lim * (1 - 1e-9)) and not jury(lim * (1 + 1e-9))
-    assert round(printed_vv[0.25] * w / 2, 2) == 0.92
-    for zeta in np.linspace(0.52, 0.98, 24):          # above 2/w between 0.5 and 1
-        assert nb07.damped_dt_limit("velocity_verlet", K, M, zeta * c_crit) > 2 / w
-    for zeta in (1.0, 1.5, 2.0, 4.0, 10.0):          # 4/gamma from critical damping on
-        lim = nb07.damped_dt_limit("velocity_verlet", K, M, zeta * c_crit)
-        assert lim == pytest.approx(4 * M / (zeta * c_crit), rel=1e-12)
-    # one row checked by simulation of the 3D spring
-    lim = nb07.damped_dt_limit("symplectic_euler", K, M, c_crit)
-    system, y0, _ = S.anchored_spring(K, M, c_crit, 1.0, 1e-3)
-    below = cl.integrate(system, y0, (0.0, 3000 * 0.99 * lim), 0.99 * lim, "symplectic_euler",
-                         blowup_bound=1.5)
-    above = cl.integrate(system, y0, (0.0, 3000 * 1.01 * lim), 1.01 * lim, "symplectic_euler",
-                         blowup_bound=1.5)
-    assert below.stable and not above.stable
-    assert above.message == "unstable at step 246, t = 65.0895 (|y| > 1.5)"
+    assert nb07.symplectic_euler_limit(K, M, big) == pytest.approx(2 * M / big, rel=1e-4)
+    # the four 3D runs of 3000 steps
+    lim = nb07.symplectic_euler_limit(K, M, c_crit)
+    crit, y_crit, _ = S.anchored_spring(K, M, c_crit, 1.0, 1e-3)
+    half, y_half, _ = S.anchored_spring(K, M, 0.5 * c_crit, 1.0, 1e-3)
+    runs = [cl.integrate(system, y, (0.0, 3000 * dt), dt, method, blowup_bound=1.5)
+            for method, system, y, dt in [
+                ("symplectic_euler", crit, y_crit, 0.99 * lim), ("symplectic_euler", crit, y_crit, 1.01 * lim),
+                ("velocity_verlet", half, y_half, 1.2 * unit), ("velocity_verlet", half, y_half, 1.5 * unit)]]
+    assert runs[0].stable and runs[3].stable
+    assert runs[1].message == "unstable at step 246, t = 65.0895 (|y| > 1.5)"
+    assert runs[2].message == "unstable at step 27, t = 20.4916 (|y| > 1.5)"
+    # the step numbers are robust: the size passes 1.5 far (1e-9) from a step edge, where
+    # the round-off of a few hundred steps (1e-13) cannot move it
+    for run_dt, method, system, y, step in ((1.01 * lim, "symplectic_euler", crit, y_crit, 246),
+                                            (1.2 * unit, "velocity_verlet", half, y_half, 27)):
+        free = cl.integrate(system, y, (0.0, step * run_dt), run_dt, method)
+        sizes = np.abs(free.y.reshape(len(free.y), -1)).max(axis=1)
+        assert sizes[step - 1] < 1.5 * (1 - 1e-9) and sizes[step] > 1.5 * (1 + 1e-9)
+    assert 27 * 1.2 * unit == pytest.approx(20.4916, abs=5e-5)
 
 
 def test_widget_static_states():
@@ -273,6 +365,33 @@ def test_widget_static_states():
     fe = nb07.run_spring(k=10.0, c=0.0, dt=0.05, method="forward_euler")
     assert fe.blowup_step is None and not fe.stable and "grows by a factor 1.01242" in fe.message
     assert 1.01242 == round(np.sqrt(1 + 10 * 0.05**2), 5)
+    # the fourth key state: velocity Verlet, c = 3.2 N s/m (ζ = 0.51), dt = 1 s, in its
+    # second window; the subtitle names both windows; the first step throws it to -4 x0
+    vv = nb07.run_spring(k=10.0, c=3.2, dt=1.0, method="velocity_verlet", t_end=30.0)
+    assert vv.stable and vv.message == "stable"
+    assert round(3.2 / S.critical_damping(10.0, 1.0), 2) == 0.51
+    (a, b), (c, d) = vv.windows
+    assert a == 0.0 and c < 1.0 < d
+    assert vv.limit_text == f"stable for dt < {b:.3g} s and for {c:.3g} s < dt < {d:.3g} s"
+    assert vv.limit_text == "stable for dt < 0.641 s and for 0.868 s < dt < 1.25 s"
+    for value in (b, c, d):                 # from np.roots: good to 1e-12, far from a 3rd digit
+        printed_holds(value, ".3g", f"{value:.3g}", 1e-9)
+    assert vv.x[1] == pytest.approx(-4 * X0, rel=1e-12)       # 1 - (ω dt)²/2 = -4
+    assert f"{np.nanmax(np.abs(vv.x[:20])) / X0:.1f}" == "4.0"
+
+
+def test_widget_says_when_verlet_is_stable_again():
+    """The review's case: ζ = 0.5, stable at 1.0 and 1.2 s, unstable at 0.75 s, and the
+    subtitle says so (it used to read "stable for dt < 0.632 s")."""
+    c = S.critical_damping(K, M) / 2
+    text = "stable for dt < 0.632 s and for 0.894 s < dt < 1.26 s"
+    for dt, stable in ((0.5, True), (0.75, False), (1.0, True), (1.2, True), (1.3, False)):
+        run = nb07.run_spring(K, c, dt, "velocity_verlet", t_end=200.0)
+        assert run.stable is stable and run.limit_text == text, dt
+        assert any(lo < dt < hi for lo, hi in run.windows) is stable
+    assert nb07.limit_text(nb07.stable_windows("backward_euler", K, M, c)) == "no step limit (A-stable)"
+    assert nb07.limit_text(nb07.stable_windows("forward_euler", K, M, 0.0)) == "unstable at every dt"
+    assert nb07.limit_text(((0.0, 0.5), (0.9, 1.3))) == "stable for dt < 0.5 s and for 0.9 s < dt < 1.3 s"
 
 
 def test_spring_explorer_view():
@@ -290,6 +409,8 @@ def test_spring_explorer_view():
         "k": 1.0, "c": 0.0, "method": "symplectic_euler", "m": 1.0}
     view.controls["c"].value = 2.0                        # damped limit 4/(2 + sqrt(8)) = 0.828 s
     assert view.result.dt_limit == pytest.approx(4 / (2 + np.sqrt(8)), rel=1e-12)
+    view.controls["method"].value = "velocity_verlet"      # ζ = 1: one window, 4/γ
+    assert np.allclose(view.result.windows, [(0.0, 4 / 2.0)], rtol=1e-12)
     view.controls["method"].value = "backward_euler"
     assert view.result.dt_limit == np.inf and "no step limit" in view.result.limit_text
     # a long run at the smallest step: every step computed, drawn thinned
@@ -412,7 +533,34 @@ PLANTS = [
     Plant("damped_dt_max", "other", "the wrong root",
           "def damped_dt_max(k, m, c):\n    g = c / m\n    return (g + np.sqrt(g**2 + 4 * k / m)) / (k / m)",
           "incorrect", "wrong root"),
+    Plant("damped_dt_max", "misconception", "velocity Verlet's min(2/ω, 4/γ): named on every row",
+          "def damped_dt_max(k, m, c):\n"
+          "    return min(2 * np.sqrt(m / k), 4 * m / c if c else np.inf)", "incorrect",
+          "velocity Verlet's limit away from light damping", avoid="undamped limit"),
+    Plant("damped_dt_max", "other", "4/γ alone (two half kicks of damping)",
+          "def damped_dt_max(k, m, c):\n    return 4 * m / c if c else 2 * np.sqrt(m / k)",
+          "incorrect", "two half kicks"),
+    Plant("damped_dt_max", "other", "velocity Verlet's first instability, from its cubic",
+          """def damped_dt_max(k, m, c):
+    w, z = np.sqrt(k / m), c / (2 * np.sqrt(k * m))
+    if z == 0:
+        return 2 / w
+    r = np.roots([z, 4 * z * z - 2, -8 * z, 8])
+    r = np.sort(r[(abs(r.imag) < 1e-9) & (r.real > 0)].real)
+    return (r[0] if r.size else 2 / z) / w""", "incorrect", "velocity Verlet's first instability"),
+    Plant("damped_dt_max", "other", "4/γ alone, second try: the fix added",
+          "def damped_dt_max(k, m, c):\n    return 4 * m / c if c else 2 * np.sqrt(m / k)",
+          "incorrect", "keep both terms", attempt=1),
     Plant("network_forces", "other", "right", NETWORK_RIGHT, "correct", ""),
+    Plant("network_forces", "misconception", "+f on both ends (no reaction)",
+          NETWORK_RIGHT.replace("np.add.at(F, j, -f)", "np.add.at(F, j, f)"), "incorrect",
+          "opposite directions (Newton's third law"),
+    Plant("network_forces", "other", "damping sign flipped",
+          NETWORK_RIGHT.replace("+ c * np.einsum", "- c * np.einsum"), "incorrect",
+          "the damping force opposes the stretching rate"),
+    Plant("network_forces", "other", "a failure shows the worst row, not the whole array",
+          NETWORK_RIGHT.replace("np.add.at(F, j, -f)", "np.add.at(F, j, f)"), "incorrect",
+          "values differ; e.g. row"),
     Plant("network_forces", "delegating", "cl.springs.SpringNetwork",
           "def network_forces(x, v, i, j, rest, k, c):\n"
           "    return cl.springs.SpringNetwork(i, j, rest, k, c, len(x)).forces(x, v)",

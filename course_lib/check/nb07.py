@@ -11,9 +11,9 @@ from __future__ import annotations
 import numpy as np
 
 from .. import springs
-from ..lessons import nb07_spring_runs as lesson
+from ..lessons import nb07_spring_limits as lesson
 from . import Checker, exercise
-from ._answers import call_analysis, one_number
+from ._answers import call_analysis, close, one_number
 from .tolerance import blown_up, consistent_hint, escalate, precision_rtol
 
 _RNG_SEED = 707
@@ -79,7 +79,7 @@ def spring_force(ck: Checker, func) -> None:
         results.append((what, got, expected, _spring_mistakes(x1, x2, k, rest)))
     hint = consistent_hint([(got, exp, mis) for _, got, exp, mis in results])
     for what, got, expected, _ in results:
-        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12, hint=hint)
+        close(ck, got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12, hint=hint)
     # Force = -gradient of the spring energy, by central finite differences.
     _, x1, x2, k, rest = next(_cases())
 
@@ -107,14 +107,55 @@ def spring_force(ck: Checker, func) -> None:
 FORMULA_LINES = 200
 
 
+def _limit_mistakes(k: float, m: float, c: float) -> dict:
+    """The usual wrong step limits (s) for one spring, keyed by hint (the same keys for
+    every spring, so that :func:`consistent_hint` can name one mistake for all of them)."""
+    omega, gamma = np.sqrt(k / m), c / m
+    zeta = gamma / (2 * omega)
+    with np.errstate(divide="ignore"):
+        half_kicks = 4.0 / gamma if gamma else np.inf
+    return {
+        escalate("that is the undamped limit 2/ω: the damping moves it",
+                 "solve the damped condition of section 5 for dt"): 2.0 / omega,
+        escalate("the smaller of 2/ω and 4/γ is velocity Verlet's limit away from light "
+                 "damping, which takes the damping in two half kicks; symplectic Euler takes "
+                 "it in one full kick, and its limit is neither", "solve the damped "
+                 "condition of section 5, the quadratic in dt, for dt"):
+            min(2.0 / omega, half_kicks),
+        escalate("that is velocity Verlet's first instability (the cubic of section 5): the "
+                 "exercise asks for symplectic Euler's", "symplectic Euler's condition is the "
+                 "quadratic in dt of section 5"): lesson.velocity_verlet_windows(k, m, c)[0][1],
+        escalate("4/γ is the limit of damping applied in two half kicks (velocity Verlet's): "
+                 "symplectic Euler applies it in one full kick, and the spring lowers the "
+                 "limit further", "keep both terms of the condition of section 5"): half_kicks,
+        escalate("the condition uses the damping rate γ = c/m, in 1/s: check what you used "
+                 "for γ", "divide c by m"): 4.0 / (c + np.sqrt(c**2 + 4 * omega**2)),
+        escalate("wrong root: the quadratic in dt has a negative and a positive root, and "
+                 "the step is the positive one",
+                 "the positive root has + before the square root, -γ + √(...)"):
+            (gamma + np.sqrt(gamma**2 + 4 * omega**2)) / omega**2,
+        escalate("check the discriminant of your quadratic in dt",
+                 "for a dt² + b dt + c = 0 it is b² - 4ac, here with b = 2γ"):
+            (-gamma + np.sqrt(gamma**2 + 16 * omega**2)) / omega**2,
+        escalate("a factor 2 went missing: the damping enters the condition as 2 γ dt, not "
+                 "γ dt", "redo the algebra of tr S > -(1 + det S) with tr S = 2 - ω² dt² - "
+                 "γ dt and det S = 1 - γ dt"):
+            (-gamma + np.sqrt(gamma**2 + 16 * omega**2)) / (2 * omega**2),
+        escalate("only the damping part: 2/γ is the limit of the damping alone, and the "
+                 "spring lowers it further", "keep both terms of the condition"):
+            2.0 / gamma if gamma else np.inf,
+        escalate("(2/ω)(1 - ζ) is the small-damping approximation, wrong at ζ = 1 and "
+                 "beyond", "solve the quadratic exactly"): 2.0 / omega * (1.0 - zeta),
+    }
+
+
 @exercise(allow=(), forbid=("scipy.integrate",))
 def damped_dt_max(ck: Checker, func) -> None:
     """``func(k, m, c)``: largest stable symplectic Euler step of a damped spring."""
+    results = []
     for k, m, c in [(10.0, 1.0, 0.0), (10.0, 1.0, 2.0), (16.0, 1.0, 8.0), (50.0, 0.2, 0.3),
                     (4.0, 9.0, 40.0)]:
         measured = lesson.damped_dt_limit("symplectic_euler", k, m, c)
-        omega, gamma = np.sqrt(k / m), c / m
-        zeta = gamma / (2 * omega)
         what = f"k = {k:g} N/m, m = {m:g} kg, c = {c:g} N s/m (measured {measured:.6f} s)"
         ok, got = call_analysis(ck, what, FORMULA_LINES, (
             "the exercise asks for the limit as a formula, solved from the stability "
@@ -128,31 +169,13 @@ def damped_dt_max(ck: Checker, func) -> None:
             continue
         if one_number(ck, what, got, "a step in s") is None:
             continue
-        ck.close(got, measured, what, rtol=precision_rtol(got, 1e-9), mistakes={
-                     escalate("that is the undamped limit 2/ω: the damping moves it",
-                              "solve the damped condition of section 5 for dt"): 2.0 / omega,
-                     escalate("the condition uses the damping rate γ = c/m, in 1/s: check "
-                              "what you used for γ", "divide c by m"):
-                         4.0 / (c + np.sqrt(c**2 + 4 * omega**2)),
-                     escalate("wrong root: the quadratic in dt has a negative and a positive "
-                              "root, and the step is the positive one",
-                              "the positive root has + before the square root, -γ + √(...)"):
-                         (gamma + np.sqrt(gamma**2 + 4 * omega**2)) / omega**2,
-                     escalate("check the discriminant of your quadratic in dt",
-                              "for a dt² + b dt + c = 0 it is b² - 4ac, here with b = 2γ"):
-                         (-gamma + np.sqrt(gamma**2 + 16 * omega**2)) / omega**2,
-                     escalate("a factor 2 went missing: the damping enters the condition as "
-                              "2 γ dt, not γ dt", "redo the algebra of tr S > -(1 + det S) "
-                              "with tr S = 2 - ω² dt² - γ dt and det S = 1 - γ dt"):
-                         (-gamma + np.sqrt(gamma**2 + 16 * omega**2)) / (2 * omega**2),
-                     escalate("only the damping part: 2/γ is the limit of the damping "
-                              "alone, and the spring lowers it further",
-                              "keep both terms of the condition"):
-                         2.0 / gamma if gamma else np.inf,
-                     escalate("(2/ω)(1 - ζ) is the small-damping approximation, wrong at "
-                              "ζ = 1 and beyond", "solve the quadratic exactly"):
-                         2.0 / omega * (1.0 - zeta),
-                 })
+        results.append((what, got, measured, _limit_mistakes(k, m, c)))
+    # one mistake that explains every spring names it on all of them (2/ω and 4/γ agree at
+    # critical damping, so a per-spring match alone would name two different mistakes)
+    hint = consistent_hint([(got, exp, mis) for _, got, exp, mis in results])
+    for what, got, measured, mistakes in results:
+        close(ck, got, measured, what, rtol=precision_rtol(got, 1e-9), hint=hint,
+              mistakes=None if hint else mistakes)
 
 
 class _Indices(np.ndarray):
@@ -202,6 +225,13 @@ def network_forces(ck: Checker, func) -> None:
         np.add.at(unprojected, i, f_bad)
         np.add.at(unprojected, j, -f_bad)
         no_damping = springs.SpringNetwork(i, j, rest, k, 0.0, x.shape[0]).forces(x)
+        same_way = np.zeros_like(x)                  # +f on both ends: no reaction
+        np.add.at(same_way, i, f)
+        np.add.at(same_way, j, f)
+        f_anti = -(k * (length - rest) - c * rate)[:, None] * u
+        anti_damped = np.zeros_like(x)               # the damping pushes with the stretching
+        np.add.at(anti_damped, i, f_anti)
+        np.add.at(anti_damped, j, -f_anti)
         _Indices.looped = False
         got = func(x.copy(), v.copy(), i.view(_Indices), j.view(_Indices), rest.copy(),
                    k.copy(), c.copy())
@@ -213,13 +243,21 @@ def network_forces(ck: Checker, func) -> None:
             continue
         if blown_up(ck, got, what, run=False):
             continue
-        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12, mistakes={
+        close(ck, got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12, mistakes={
             escalate("a particle that belongs to several springs got the force of only one "
                      "of them: F[i] += f does not add up repeated indices (NumPy buffers a "
                      "fancy-index update, so the last write wins)",
                      "NumPy has an unbuffered version of the add for this (np.add.at), and "
                      "np.bincount can sum per particle too"): buffered,
             escalate("each spring pushes both of its ends", "add f at i and -f at j"): only_i,
+            escalate("each spring pushes its two ends in opposite directions (Newton's third "
+                     "law, section 2): the force on particle j is minus the force on i",
+                     "with that, the forces of every spring sum to zero, and so does the "
+                     "total force: check the sum of your answer over the particles"): same_way,
+            escalate("your damping pushes a stretching spring to stretch faster: the damping "
+                     "force opposes the stretching rate (V_i - V_j)·u",
+                     "the damping adds c times the rate to k(ℓ - L), with the same sign: both "
+                     "pull the ends together while the spring stretches"): anti_damped,
             escalate("the damping must act along the spring only, on the stretching rate",
                      "project the relative velocity on u first: ((v_i - v_j)·u) u"): unprojected,
             escalate("you left out the damping", "add c times the stretching rate, along u"):

@@ -20,6 +20,7 @@ from matplotlib.ticker import LogLocator, MaxNLocator, NullLocator
 
 from ..integrators import METHODS
 from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS, detached_figure
+from .nb07_spring_limits import velocity_verlet_gap_end, velocity_verlet_windows
 from .nb07_spring_runs import SpringRun, run_spring
 
 #: Size of the figure (in) and the most points drawn per curve.
@@ -172,3 +173,45 @@ def spring_explorer(k: float = 10.0, c: float = 0.0, dt: float = 0.05,
                              description="method"),
     }
     return BusyExplorerView(run_spring, SpringPlot(), controls)
+
+
+def draw_damped_limits(ax, measured: dict | None = None, zeta_max: float = 2.0,
+                       top: float = 2.4):
+    """Symplectic Euler's and velocity Verlet's stable steps against the damping ratio
+    ``ζ = c / c_crit``, in units of the undamped limit ``2/ω``: shaded where the step is
+    stable (:func:`~course_lib.lessons.nb07_spring_limits.stable_windows`), and the edges
+    ``measured`` (``{method: {ζ: windows in units of 2/ω}}``) as dots."""
+    zetas = np.linspace(0.0, zeta_max, 801)[1:]
+    se = np.sqrt(1.0 + zetas**2) - zetas
+    vv = np.full((zetas.size, 4), np.nan)
+    for row, zeta in zip(vv, zetas, strict=True):
+        for w, (lo, hi) in enumerate(velocity_verlet_windows(1.0, 1.0, 2.0 * zeta)[:2]):
+            row[2 * w:2 * w + 2] = 0.5 * lo, 0.5 * hi
+    col_vv, col_se = METHOD_COLORS["velocity_verlet"], METHOD_COLORS["symplectic_euler"]
+    ax.fill_between(zetas, 0.0, np.minimum(vv[:, 1], top), color=col_vv, alpha=0.25, lw=0,
+                    label="velocity Verlet stable")
+    second = np.isfinite(vv[:, 2])
+    ax.fill_between(zetas, vv[:, 2], np.minimum(vv[:, 3], top), where=second, color=col_vv,
+                    alpha=0.25, lw=0)
+    ax.plot(zetas, np.minimum(vv[:, 1], top), color=col_vv, lw=1.2)
+    ax.plot(zetas[second], vv[second, 2], color=col_vv, lw=1.2)
+    ax.plot(zetas[second], np.minimum(vv[second, 3], top), color=col_vv, lw=1.2)
+    ax.fill_between(zetas, 0.0, se, color=col_se, alpha=0.45, lw=0,
+                    label=r"symplectic Euler stable: $\sqrt{1+\zeta^2} - \zeta$")
+    ax.plot(zetas, se, color=col_se, lw=1.5)
+    jump = velocity_verlet_gap_end()[0]
+    ax.axvline(jump, color="0.4", ls=":", lw=1)
+    ax.text(jump + 0.03, top - 0.06, f"ζ* = {jump:.3f}: Verlet's gap closes", fontsize=8,
+            va="top", color="0.3")
+    ax.text(0.33, 1.45, "Verlet's gap:\nunstable", fontsize=8, color="0.3", ha="center")
+    markers = {"symplectic_euler": "o", "velocity_verlet": "s"}
+    for method, by_zeta in (measured or {}).items():
+        pts = [(z, edge) for z, windows in by_zeta.items() for lo, hi in windows
+               for edge in (lo, hi) if 0.0 < edge <= top]
+        z, e = np.array(pts).T
+        ax.plot(z, e, markers[method], color="black", mfc=METHOD_COLORS[method], ms=6,
+                label=f"{METHOD_LABELS[method]}: measured edges")
+    ax.set(xlim=(0.0, zeta_max), ylim=(0.0, top), xlabel=r"damping ratio $\zeta = c/c_{crit}$",
+           ylabel=r"stable step $\Delta t$ (units of $2/\omega$)")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    return ax
