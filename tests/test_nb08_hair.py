@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from notebook_helpers import printed_holds
 from planted import Plant, judge
 
 import course_lib as cl
@@ -185,12 +186,63 @@ def test_damping_calms_the_strand():
     assert round((spans[1e-2][0] - eq) * 100, 1) == 0.4 and round((spans[1e-2][1] - eq) * 100, 1) == 0.6
 
 
+def test_the_planar_minimum_is_only_local():
+    """Section 2: started turned down by 1 rad, the same held zigzag settles at another
+    minimum in its plane: the bend at particle 2 snapped through, sag 25.26 cm, 1.6 mJ lower.
+    The solver stops at 1e-9 of the weight in force, so the shape is good to ~1e-9 m."""
+    x_rest, net = nb08.held_strand(2000.0, 0.3)
+    snapped = nb08.drooped_equilibrium(2000.0, 0.3, droop=1.0)
+    planar = nb08.saddle_escape(k_bend=2000.0, zigzag=0.3).planar
+    sag = x_rest[-1, 1] - snapped.x[-1, 1]
+    printed_holds(sag * 100, "5.2f", "25.26", 1e-6)
+    assert round(sag * 100, 1) == 25.3
+    printed_holds(snapped.energy * 1e3, ".3f", "-1.658", 1e-8)
+    printed_holds(snapped.lowest, ".3f", "0.026", 1e-6)
+    assert snapped.lowest > 0                              # a minimum among planar shapes
+    assert nb08.flipped_bends(snapped.x, x_rest).tolist() == [2]
+    assert nb08.flipped_bends(planar.x, x_rest).tolist() == []   # the held-out one: none
+    # "its energy lies 1.6 mJ below the held-out shape's"
+    assert round((planar.energy - snapped.energy) * 1e3, 1) == 1.6
+    # it is an equilibrium: the net force on the free coordinates vanishes (to 1e-9 of mg)
+    force = net.forces(snapped.x) + M * np.array([0.0, -9.81, 0.0])
+    assert np.abs(force[2:, :2]).max() < 1e-6 * M * 9.81
+    # the same minimum from any drooped start between 0.5 and 2 rad: not a fluke of one start
+    for droop in (0.5, 1.5, 2.0):
+        other = nb08.drooped_equilibrium(2000.0, 0.3, droop=droop)
+        assert np.abs(other.x - snapped.x).max() < 1e-6
+    # in 3D it is a saddle as well (a planar truss again)
+    from course_lib.statics import curvature
+    assert curvature(net, snapped.x, (0, 1))[0] < 0
+
+
+def test_hairstyle_substeps_margin():
+    """Section 6: 180 substeps where 2/ω_max asks for 149; 149 runs stable too."""
+    center, R = np.zeros(3), 0.1
+    xs, net, roots = H.hairstyle(n_strands=7, center=center, radius=R, k_bend=200.0, k_twist=100.0)
+    w = S.max_frequency(net, xs, M, pinned=roots)
+    need = int(np.floor(1 / (30 * 2 / w))) + 1
+    assert need == 149 and 1 - 149 / 180 == pytest.approx(0.2, abs=0.035)     # "a fifth"
+    bare = H.simulate(xs, net, frames=45, substeps=149, pinned=roots, damping=2e-3,
+                      post_step=H.head_collision(center, R, pinned=roots))
+    assert bare.stable
+
+
 def test_widget_blowup_state():
     run = nb08.run_held_strand(k_bend=2000.0, damping=2e-3, dt=1.9e-4, t_end=0.5)
     assert not run.stable and run.message == "unstable at step 32, t = 6.08 ms (a speed past 100 m/s)"
     assert np.abs(run.last_finite).max() < 1.0            # the positions were not what passed 100
     assert run.last_step == 32 and np.all(np.isfinite(run.last_finite))
     assert run.growth.shape == (33,) and run.growth[-1] > 1e-3 and run.growth[0] == 0.0
+    # the speed panel: symplectic Euler's speeds are the position differences over dt; the
+    # run stops at the step where one passes 100 m/s
+    assert run.speed.shape == (32,) and run.speed[-1] > 100.0 and run.speed[-2] < 100.0
+    x, _ = H.symplectic_euler_run(*nb08.held_strand(2000.0, 0.3), 1.9e-4, 5, pinned=(0, 1),
+                                  damping=2e-3)
+    v = np.linalg.norm(x[1:] - x[:-1], axis=2).max(axis=1) / 1.9e-4
+    assert np.allclose(run.speed[:5], v, rtol=1e-12)
+    fig = nb08.draw_held_strand(run)
+    labels = [t.get_text() for t in fig.axes[1].get_legend().texts]
+    assert labels == ["largest |x - x0| of any particle (m)", "largest speed of any particle (m/s)"]
 
 
 def test_widget_key_states():
@@ -451,7 +503,24 @@ PLANTS = [
                                 "np.arange(n - o - (o == 3)) for o in (1, 2, 3)")
           .replace("np.arange(o, n) for o in (1, 2, 3)", "np.arange(o, n - (o == 3)) for o in (1, 2, 3)"),
           "incorrect", "the family 3 apart has the wrong count"),
+    Plant("strand_springs", "other", "every spring listed twice, (i, j) and (j, i)",
+          SPRINGS_RIGHT.replace("    return i, j, np.linalg.norm(", "    i, j = np.r_[i, j], np.r_[j, i]\n"
+                                "    return i, j, np.linalg.norm("), "incorrect",
+          "you listed some springs twice", avoid="wrong count"),
+    Plant("strand_springs", "other", "a wrong rest length shows one spring, not the table",
+          SPRINGS_RIGHT.replace("np.linalg.norm(x0[i] - x0[j], axis=1)",
+                                "(j - i) * np.linalg.norm(x0[1] - x0[0])"), "incorrect",
+          "values differ; the worst, spring (i, j, rest) number", avoid="[[ "),
     Plant("hair_frames", "other", "right", LOOP_RIGHT, "correct", ""),
+    Plant("hair_frames", "other", "pinned ignored: particle 0 held only, named in the frames",
+          LOOP_RIGHT.replace("free[list(pinned)] = 0.0", "free[0] = 0.0"), "incorrect",
+          "the frames: 768 of 1296 values differ; the worst, frame 8, particle 32"),
+    Plant("hair_frames", "other", "pinned ignored: the hint under the frames",
+          LOOP_RIGHT.replace("free[list(pinned)] = 0.0", "free[0] = 0.0"), "incorrect",
+          "only particle 0 is held", avoid="project every free particle"),
+    Plant("hair_frames", "other", "head: position only; the gap is printed (rows print alike)",
+          LOOP_RIGHT.replace("v[inside] -= (np.minimum(vn, 0.0) * n)[inside]", "pass"),
+          "incorrect", "(off by 0.00066 m)"),
     Plant("hair_frames", "delegating", "cl.hair.simulate", LOOP_RIGHT.split("\n")[0] + """
     return cl.hair.simulate(x0, spring_forces.__self__, frames=frames, substeps=substeps,
                             fps=fps, mass=mass, pinned=pinned, damping=damping,
@@ -504,6 +573,20 @@ PLANTS = [
           LOOP_RIGHT.replace("        if step % substeps == 0:\n            out.append(x.copy())",
                              "        out.append(x.copy())"), "incorrect", "keep one state per frame"),
     Plant("step_limit", "other", "right", STEP_RIGHT, "correct", ""),
+    Plant("step_limit", "misconception", "the rule of thumb 2√(k/m), k from K's diagonal",
+          """def step_limit(K, mass, pinned, fps):
+    omega = 2 * np.sqrt(np.max(np.diag(K)) / 2 / np.min(mass))
+    dt = 2.0 / omega
+    return omega, dt, int(np.floor(1.0 / (fps * dt))) + 1""", "incorrect",
+          "% off: an estimate (the rule of thumb"),
+    Plant("step_limit", "other", "pinned kept: the step's digits show the difference",
+          STEP_RIGHT.replace("free = np.setdiff1d(np.arange(len(mass)), pinned)",
+                             "free = np.arange(len(mass))"), "incorrect",
+          "apart relative to the size"),
+    Plant("step_limit", "other", "pinned kept, second try: escalated",
+          STEP_RIGHT.replace("free = np.setdiff1d(np.arange(len(mass)), pinned)",
+                             "free = np.arange(len(mass))"), "incorrect",
+          "keep the rows p·d ... p·d + d - 1", attempt=1),
     Plant("step_limit", "delegating", "cl.max_stable_dt for the step",
           STEP_RIGHT.replace("dt = 2.0 / omega", "dt = cl.max_stable_dt('symplectic_euler', 1j * omega)"),
           "incorrect", "course_lib.stability.max_stable_dt"),

@@ -125,6 +125,9 @@ def loop_mistakes(x0, net, mass, pinned, damping, head, frames, substeps, fps) -
         escalate("only the first particle in pinned is held: every particle listed stays put",
                  "zero the velocity change of every pinned particle"):
             hair_loop(*args, pins=[pinned[0]]),
+        escalate("only particle 0 is held: pinned lists every particle that stays put, and "
+                 "here particle 0 is not the only one", "zero the velocity change of every "
+                 "particle in pinned"): hair_loop(*args, pins=[0]),
         escalate("each particle has its own mass (this strand is tapered): divide each "
                  "force by its own particle's mass", "mass has shape (N,): use mass[:, None]"):
             hair_loop(*args, masses=float(np.mean(mass))),

@@ -17,7 +17,7 @@ from .. import hair, springs, strands
 from . import Checker, exercise
 from ._answers import as_array, call_analysis, close
 from ._nb08_cases import loop_cases, loop_mistakes, reference
-from .tolerance import blown_up, call_whole_array, escalate, precision_rtol
+from .tolerance import blown_up, call_whole_array, close_worst, escalate, precision_rtol
 
 
 def _rows(i, j, rest) -> np.ndarray:
@@ -64,6 +64,15 @@ def strand_springs(ck: Checker, func) -> None:
                       hint="off by one: the last torsion spring is (n-4, n-1)")
             continue
         got = _rows(i, j, rest)
+        pairs = got[:, :2]
+        twice = len(np.unique(pairs, axis=0)) < len(pairs)
+        if twice and np.array_equal(np.unique(pairs, axis=0), expected[:, :2]):
+            ck.expect(False, what, f"expected {len(expected)} springs, got {got.shape[0]}: some "
+                      f"pairs of particles are listed more than once", hint=escalate(
+                          "a spring joins two particles once: you listed some springs twice, "
+                          "e.g. as (i, j) and as (j, i)", "keep i < j: (s, s + offset) for "
+                          "each family, once"))
+            continue
         if got.shape != expected.shape:
             counts = {o: int(np.sum(np.abs(np.asarray(j, int) - np.asarray(i, int)) == o))
                       for o in (1, 2, 3)}
@@ -94,8 +103,10 @@ def strand_springs(ck: Checker, func) -> None:
             "every spring got the segment length; measure each one on x0": _rows(
                 i_ref, j_ref, np.full(i_ref.size, seg)),
         }
-        ck.close(got, expected, what, rtol=precision_rtol(rest, 1e-12), atol=1e-15,
-                 mistakes=mistakes)
+        # a failure shows the worst spring only: the whole table would be the answer
+        close_worst(ck, got, expected, what, rtol=precision_rtol(rest, 1e-12), atol=1e-15,
+                    mistakes=mistakes, unit="m",
+                    label=lambda r: f"spring (i, j, rest) number {r} in sorted order")
 
 
 #: Lines of Python one substep of whole-array code needs at most (a loop over 48 particles
@@ -138,19 +149,27 @@ def hair_frames(ck: Checker, func) -> None:
         mistakes = {} if right else loop_mistakes(x0, net, mass, pinned, damping, head,
                                                   frames, substeps, fps)
         # one row per particle and frame: a wrong answer is summarised by its worst row
-        close(ck, answer.reshape(-1, 3), expected.reshape(-1, 3), f"{what}: the frames",
-              rtol=0.0, atol=1e-9,
-              mistakes={h: w.reshape(-1, 3) for h, w in mistakes.items()})
+        n = len(x0)
+        close_worst(ck, answer.reshape(-1, 3), expected.reshape(-1, 3), f"{what}: the frames",
+                    rtol=0.0, atol=1e-9, unit="m",
+                    label=lambda r, n=n: f"frame {r // n}, particle {r % n}",
+                    mistakes={h: w.reshape(-1, 3) for h, w in mistakes.items()})
         center, radius = head
         depth = radius - np.linalg.norm(answer - center, axis=-1).min()
         ck.expect(depth <= 1e-9 * radius, f"{what}: no particle inside the head",
                   f"a particle ends a frame {depth * 1e3:.3g} mm inside it",
                   hint="after each substep, project every free particle inside the head back "
                        "to its surface")
-        moved = float(np.abs(answer[:, pinned] - x0[pinned]).max())
-        ck.expect(moved <= 1e-12, f"{what}: the pinned particles stay put",
-                  f"a pinned particle moved by {moved:.3g} m",
-                  hint="the pinned particles get no velocity and no projection: they stay "
+        shift = np.abs(answer[:, pinned] - x0[pinned]).max(axis=(0, 2))
+        moved = [p for p, d in zip(pinned, shift, strict=True) if d > 1e-12]
+        held = [p for p in pinned if p not in moved]
+        ck.expect(not moved, f"{what}: the pinned particles stay put",
+                  f"pinned particle{'s' if len(moved) > 1 else ''} {moved} moved, by up to "
+                  f"{shift.max():.3g} m", hint=escalate(
+                      f"you held only particle{'s' if len(held) > 1 else ''} {held} of the "
+                      f"pinned list {list(pinned)}: every particle listed stays put, in any "
+                      "order", "mark all of them at once, e.g. free[list(pinned)] = 0") if held
+                  else "the pinned particles get no velocity and no projection: they stay "
                        "exactly where they are")
 
 
@@ -196,8 +215,9 @@ def _omega_mistakes(K, mass, pinned, dim) -> dict:
         assumed = [p * 3 + c for p in free for c in range(3) if p * 3 + c < n * dim]
         biggest = np.abs(np.linalg.eigvalsh(scale[:, None] * K[np.ix_(dofs, dofs)] * scale)).max()
     out = {
-        "the pinned particles cannot move: drop their rows and columns of K first":
-            _top(K, mass, np.arange(n * dim), dim),
+        escalate("the pinned particles cannot move: drop their rows and columns of K first",
+                 "keep the rows p·d ... p·d + d - 1 of every particle p that is not pinned, "
+                 "and the same columns"): _top(K, mass, np.arange(n * dim), dim),
         escalate("each particle owns d rows of K: particle p is rows p·d ... p·d + d - 1, so dropping "
          "row p is not dropping particle p", "d = K.shape[0] // len(mass); the free rows are "
          "p·d + (0 ... d-1) for every particle p not pinned"): _top(K, mass, rows, dim),
@@ -251,17 +271,27 @@ def step_limit(ck: Checker, func) -> None:
             continue
         w_got, dt_got, s_got = (float(a) for a in answer)
         rtol = precision_rtol(got, 1e-9)
-        w_ok = ck.close(w_got, omega, f"{what}: ω_max (rad/s)", rtol=rtol,
-                        mistakes=_omega_mistakes(K, mass, pinned, dim))
+        mistakes = _omega_mistakes(K, mass, pinned, dim)
+        near = None
+        if 0.5 < w_got / omega < 2.0 and not any(np.isclose(w_got, w, rtol=rtol)
+                                                for w in mistakes.values()):
+            near = escalate(
+                f"your ω_max is {100 * abs(w_got / omega - 1):.2g} % off: an estimate (the "
+                "rule of thumb 2√(k/m), a bound from the diagonal of K) is not the largest "
+                "eigenvalue, which the bending springs, the finite strand and unequal masses "
+                "all move", "compute the eigenvalues of M^(-1/2) K M^(-1/2) on the free "
+                "coordinates and take the square root of the largest")
+        w_ok = close(ck, w_got, omega, f"{what}: ω_max (rad/s)", rtol=rtol, hint=near,
+                     mistakes=mistakes)
         follows = w_got > 0 and np.isclose(dt_got, 2.0 / w_got, rtol=rtol)
-        ck.close(dt_got, dt_max, f"{what}: largest stable step (s)", rtol=rtol, mistakes={
+        close(ck, dt_got, dt_max, f"{what}: largest stable step (s)", rtol=rtol, mistakes={
             "symplectic Euler is stable for ω dt < 2: the limit is 2/ω_max, not 1/ω_max":
                 1.0 / w_got if w_got > 0 else np.nan},
             hint=None if w_ok or not follows else
             "your step is 2 / (your ω_max), the right rule: fix ω_max and it follows")
         follows = dt_got > 0 and s_got == _substeps(dt_got, fps)
-        ck.close(s_got, substeps, f"{what}: substeps at {fps:g} fps", rtol=0.0,
-                 atol=0.0, mistakes={"round up: with one substep fewer the step is longer than "
+        close(ck, s_got, substeps, f"{what}: substeps at {fps:g} fps", rtol=0.0,
+              atol=1e-300, mistakes={"round up: with one substep fewer the step is longer than "
                                      "the limit": substeps - 1},
                  hint=None if not follows else
                  "your count follows from your step, the right rule: fix the step and it follows")

@@ -11,9 +11,13 @@
   Python lines (a loop over the particles runs one pass per particle), saying so if not;
 - :func:`consistent_hint`: the one mistake that explains every case an answer gets wrong,
   so that two mistakes that coincide on one case (a sign error and a force on the length,
-  on a spring compressed to half its rest length) are told apart by the other cases.
+  on a spring compressed to half its rest length) are told apart by the other cases;
+- :func:`close_worst`: compare arrays of many rows (particles, springs, frames) and, on a
+  failure, say how many values differ and show the *worst* row with how far it is off,
+  never the whole expected array (which would bury the hint, or give the answer away).
 
-Check layer: imports NumPy and the shared :class:`~course_lib.check.Checker` only.
+Check layer: imports NumPy, the shared :class:`~course_lib.check.Checker` and the answer
+helpers of :mod:`course_lib.check._answers`.
 """
 
 from __future__ import annotations
@@ -21,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import Checker, Hint
-from ._answers import call_analysis
+from ._answers import as_array, call_analysis, close, mistake_hint, rtol_for
 
 
 def precision_rtol(answer, rtol: float) -> float:
@@ -123,3 +127,44 @@ def call_whole_array(ck: Checker, what: str, budget: int, hint: Hint, func, *arg
             "it steps through the run instead of evaluating the result",
             "it loops over the particles one at a time instead of working on whole arrays")
     return ok, got
+
+
+def close_worst(ck: Checker, got, expected, what: str, *, rtol: float, atol: float,
+                hint: Hint = None, mistakes: dict | None = None, unit: str = "",
+                label="row") -> bool:
+    """Compare an array answer of many rows with the expected one; a failure reads
+    "``k`` of ``n`` values differ; the worst, ``label`` r: expected [...], got [...] (off by
+    ``x`` ``unit``)". Printing the gap matters: two rows that differ by a micrometre print
+    alike at six digits. Arrays of up to 3 rows, and answers of another shape, are judged
+    by :func:`~course_lib.check._answers.close` (printed whole: small enough to read).
+    ``mistakes`` maps hints to the whole arrays the usual slips give; ``label`` names a row
+    (``"row"``: "row 7"), or is a function of the row index that names it."""
+    e = np.asarray(expected, dtype=float)
+    a = as_array(got)
+    if a is None or a.shape != e.shape or e.ndim == 0 or e.shape[0] <= 3:
+        return close(ck, got, expected, what, rtol=rtol, atol=atol, hint=hint, mistakes=mistakes)
+    rtol = rtol_for(a, rtol)
+    bad = ~np.isclose(a, e, rtol=rtol, atol=atol)
+    if not bad.any():
+        return ck.expect(True, what)
+    if mistakes:
+        for mistake, wrong in mistakes.items():     # at this comparison's own tolerance
+            w = np.asarray(wrong, dtype=float)
+            if w.shape == a.shape and np.allclose(a, w, rtol=rtol, atol=atol):
+                hint = mistake
+                break
+        else:
+            hint = mistake_hint(a, mistakes, hint)
+    with np.errstate(invalid="ignore"):
+        gap = np.abs(a - e).reshape(e.shape[0], -1)
+    gap = np.where(np.isnan(gap), np.inf, gap).max(axis=1)
+    r = int(np.argmax(gap))
+
+    def show(x):
+        return np.array2string(np.asarray(x) + 0.0, precision=6, suppress_small=True,
+                               separator=", ")
+
+    name = label(r) if callable(label) else f"{label} {r}"
+    return ck.expect(False, what, f"{int(bad.sum())} of {bad.size} values differ; the worst, "
+                     f"{name}: expected {show(e[r])}, got {show(a[r])} (off by "
+                     f"{gap[r]:.2g}{' ' + unit if unit else ''})", hint)

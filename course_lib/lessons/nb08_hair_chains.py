@@ -13,6 +13,8 @@ from .nb08_hair_runs import (
     HeldStrandRun,
     SaddleEscape,
     damped_step_limit,
+    drooped_equilibrium,
+    flipped_bends,
     held_strand,
     max_strain_vs_substeps,
     run_held_strand,
@@ -33,7 +35,7 @@ from .nb08_hair_view import (
 )
 
 __all__ = ["HeldStrandPlot", "HeldStrandRun", "SaddleEscape", "animate", "damped_step_limit",
-           "draw_hairstyle",
-           "draw_held_strand", "draw_saddle", "held_strand", "held_strand_explorer",
+           "draw_hairstyle", "draw_held_strand", "draw_saddle", "drooped_equilibrium",
+           "flipped_bends", "held_strand", "held_strand_explorer",
            "max_strain_vs_substeps", "run_held_strand", "saddle_escape", "stiffest_edge",
            "tip_sag", "twist_energy", "twist_release", "twist_shapes"]

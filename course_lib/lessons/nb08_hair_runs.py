@@ -115,6 +115,29 @@ def saddle_escape(k_bend: float = 2000.0, zigzag: float = 0.3, nudge: float = 1e
                         np.linalg.norm(x - planar.x, axis=(1, 2)), near)
 
 
+def drooped_equilibrium(k_bend: float = 2000.0, zigzag: float = 0.3, droop: float = 1.0
+                        ) -> Equilibrium:
+    """The held strand's equilibrium in its plane reached from its rest shape turned down by
+    ``droop`` rad about particle 1 (the clamp): another local minimum of the same energy,
+    in which the bend next to the clamp has snapped through (its triangle is turned inside
+    out, :func:`flipped_bends`) and acts as a hinge."""
+    x0, net = held_strand(k_bend, zigzag)
+    c, s = np.cos(droop), np.sin(droop)
+    turn = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])     # clockwise in x-y
+    start = x0.copy()
+    start[2:] = (x0[2:] - x0[1]) @ turn.T + x0[1]
+    return equilibrium(start, net, MASS, (0, 1), G_EARTH, axes=(0, 1))
+
+
+def flipped_bends(x, x_rest) -> np.ndarray:
+    """Particles ``p`` whose bend (the triangle ``p - 1, p, p + 1``) turns the other way in
+    ``x`` than in ``x_rest``, seen in the x-y plane."""
+    def turns(y):
+        a, b = y[1:-1] - y[:-2], y[2:] - y[1:-1]
+        return np.sign(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    return np.flatnonzero(turns(np.asarray(x)) != turns(np.asarray(x_rest))) + 1
+
+
 # --- the notebook 08 widget's pure function -------------------------------------------------
 
 
@@ -133,6 +156,7 @@ class HeldStrandRun:
     last_finite: np.ndarray | None = None   #: last finite state of a blown-up run
     last_step: int = 0        #: index of the last finite step
     growth: np.ndarray | None = None        #: blown up: max |x - x0| at every step (m)
+    speed: np.ndarray | None = None         #: blown up: largest speed at steps 1... (m/s)
 
 
 def run_held_strand(k_bend: float = 2000.0, damping: float = 2e-3, dt: float = 1e-4,
@@ -162,6 +186,8 @@ def run_held_strand(k_bend: float = 2000.0, damping: float = 2e-3, dt: float = 1
     pick = np.linspace(0, n, n_frames).round().astype(int)
     stable = message == "ok"
     growth = None if stable else np.abs(x[: last + 1] - x0).max(axis=(1, 2))
+    # symplectic Euler moves x by dt times the new velocity: the speeds are the differences
+    speed = None if stable else np.linalg.norm(np.diff(x[: last + 1], axis=0), axis=2).max(axis=1) / dt
     if not stable:   # say what passed the bound: a position (m) or a speed (m/s)
         step = int(message.split("step ")[1].split(",")[0])
         what = ("a coordinate past 100 m" if np.isfinite(x[step]).all()
@@ -171,7 +197,7 @@ def run_held_strand(k_bend: float = 2000.0, damping: float = 2e-3, dt: float = 1
                          damped_step_limit(_held_omega(float(k_bend), float(zigzag)), damping),
                          {"k_bend": k_bend, "damping": damping, "dt": dt, "t": t,
                           "t_end": t_end, "t_shown": float(t[-1]), "steps": n},
-                         None if stable else x[last], last, growth)
+                         None if stable else x[last], last, growth, speed)
 
 
 # --- twist: planar rest shapes against a helix --------------------------------------------

@@ -48,6 +48,8 @@ class HeldStrandPlot:
         self.ax_s.set(xlim=(-0.05, 0.35), ylim=(-0.33, 0.07), xlabel="x (m)", ylabel="y (m)",
                       aspect="equal")
         self.tip, = self.ax_t.plot([], [], color="C0", lw=1.2, label="tip, symplectic Euler")
+        self.speed, = self.ax_t.plot([], [], color="C3", lw=1.2,
+                                     label="largest speed of any particle (m/s)")
         self.eq_t = self.ax_t.axhline(0.0, **EXACT_STYLE, label="equilibrium")
         self.ax_t.set(xlabel="t (s)", ylabel="tip height y (m)")
         for ax in (self.ax_s, self.ax_t):     # few ticks: drawing text dominates a redraw
@@ -92,18 +94,20 @@ class HeldStrandPlot:
             self.ax_t.set_ylim(-0.33, 0.07)
             self.ax_t.set_ylabel("tip height y (m)")
             self.ax_t.set_xlim(0.0, p["t_shown"])
+            self.speed.set_data([], [])
             legend = [self.tip, self.eq_t]
         else:      # blown up: the growth, on a log scale, up to the last finite step
             self.tip.set_data(t[idx], np.maximum(run.growth[idx], 1e-16))
-            self.tip.set_label("largest |x - x0| of any particle")
+            self.tip.set_label("largest |x - x0| of any particle (m)")
+            self.speed.set_data(t[1: last + 1], np.maximum(run.speed, 1e-16))
             self.eq_t.set_ydata([1.0, 1.0])        # hidden; positive, for the log scale
             self.eq_t.set_visible(False)
             self.ax_t.relim(visible_only=True)     # forget y = 0 before going to a log scale
             self.ax_t.set_yscale("log")
             self.ax_t.set_ylim(1e-8, 1e3)
-            self.ax_t.set_ylabel("displacement (m), log scale")
+            self.ax_t.set_ylabel("displacement, speed (log scale)")
             self.ax_t.set_xlim(0.0, 1.05 * t[last])
-            legend = [self.tip]
+            legend = [self.tip, self.speed]
         self.ax_t.legend(handles=legend, fontsize=8, loc="upper right" if run.stable else "lower right")
 
         verdict = "stable" if run.stable else "BLOWN UP: " + run.message
