@@ -178,7 +178,8 @@ class BaraffWitkin(SpringSolver):
     def run(self, x0, v0, dt: float, n_steps: int):
         """``n_steps`` steps from ``(x0, v0)``: arrays ``x, v`` of shape ``(n_steps + 1, N, d)``
         and the list of :class:`StepInfo`."""
-        x0, v0 = self.check_state(x0, v0)
+        x0 = _validate.positions("x0", x0, self.network.n_particles)
+        x0, v0 = self.check_state(x0, _validate.positions("v0", v0, *x0.shape))
         n_steps = _validate.positive_int("n_steps", n_steps)
         _validate.positive_finite("dt", dt)
         xs = np.empty((n_steps + 1, *x0.shape))

@@ -35,6 +35,7 @@ from scipy.spatial import cKDTree
 from scipy.special import beta, betainc
 
 from . import neighbors
+from ._validate import finite_real, nonnegative, positive_finite, positive_int, real_array
 from .neighbors import squared_norms
 
 METHODS = ("tree", "all_pairs")
@@ -80,11 +81,9 @@ def wrap(d, box: float | None):
 
 def _state(x, v):
     """``x`` and ``v`` as float ``(N, dim)`` arrays of one shape, finite, or a clear error."""
-    x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
+    x, v = real_array("x", x), real_array("v", v)
     if x.ndim != 2 or x.shape != v.shape:
         raise ValueError(f"x and v must have the same shape (N, dim), got {x.shape} and {v.shape}")
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-        raise ValueError("x and v must be finite; the state contains NaN or inf")
     return x, v
 
 
@@ -201,6 +200,9 @@ def clamp_speed(v, min_speed: float, max_speed: float):
     """Velocities rescaled so that every speed lies in ``[min_speed, max_speed]`` (rows
     already inside are returned unchanged). A boid at rest that must fly
     (``min_speed > 0``) sets off along heading ``k × GOLDEN_ANGLE`` (boid ``k``)."""
+    v, min_speed = real_array("v", v, (None, None)), nonnegative("min_speed", min_speed)
+    if not max_speed >= min_speed:
+        raise ValueError(f"max_speed must be >= min_speed = {min_speed!r}, got {max_speed!r}")
     unit, speed = _headings(v)
     target = np.clip(speed, min_speed, max_speed)
     rest = (speed[:, 0] == 0) & (target[:, 0] > 0)
@@ -217,7 +219,9 @@ def flee(x, predator, radius: float, strength: float, box: float | None = None):
     """Acceleration (m/s², ``(N, dim)``) away from a predator at ``predator`` for boids
     within ``radius`` (m): ``strength × (x − x_p) / |x − x_p|²`` (m²/s²), zero beyond
     and at the predator's own position."""
-    d = wrap(np.asarray(x, dtype=float) - np.asarray(predator, dtype=float), box)
+    x = real_array("x", x, (None, None))
+    radius, strength = positive_finite("radius", radius), finite_real("strength", strength)
+    d = wrap(x - real_array("predator", predator, x.shape[1:]), box)
     dist2 = squared_norms(d)
     near = ((dist2 <= radius**2) & (dist2 > 0))[:, None]
     return strength * np.divide(d, dist2[:, None], out=np.zeros_like(d), where=near)
@@ -240,8 +244,11 @@ def avoid(x, v, centers, radii, lookahead: float, strength: float, box: float | 
     pushed straight out at full ``strength``. Boids at rest do not steer.
     """
     x, v = _state(x, v)
-    c = np.asarray(centers, dtype=float).reshape(-1, x.shape[1])
-    rho = np.ravel(radii).astype(float) + clearance
+    c, rho = real_array("centers", centers).reshape(-1, x.shape[1]), real_array("radii", radii).ravel()
+    if rho.shape != (len(c),) or np.any(rho <= 0):
+        raise ValueError(f"radii must hold one radius > 0 per centre ({len(c)}), got {radii!r}")
+    rho, lookahead = rho + nonnegative("clearance", clearance), positive_finite("lookahead", lookahead)
+    strength = finite_real("strength", strength)
     out = np.zeros_like(x)
     if len(c) == 0:
         return out
@@ -273,16 +280,12 @@ def avoid(x, v, centers, radii, lookahead: float, strength: float, box: float | 
 def step(x, v, dt: float, rules: Rules, method: str = "tree", extra=None):
     """One step: ``v += dt a`` (rules, plus ``extra`` m/s²), speeds clamped to the limits,
     ``x += dt v``, positions wrapped into the box. Returns new ``(x, v)``."""
-    if not (np.isfinite(dt) and dt > 0):
-        raise ValueError(f"dt must be finite and > 0, got {dt!r}")
+    dt = positive_finite("dt", dt)
     x, v = _state(x, v)
     sep, ali, coh = steering(x, v, rules, method)
     a = rules.separation * sep + rules.alignment * ali + rules.cohesion * coh
     if extra is not None:
-        extra = np.asarray(extra, dtype=float)
-        if not np.all(np.isfinite(extra)):
-            raise ValueError("extra must be finite; it contains NaN or inf")
-        a = a + np.broadcast_to(extra, a.shape)
+        a = a + np.broadcast_to(real_array("extra", extra), a.shape)
     v_new = clamp_speed(v + dt * a, rules.min_speed, rules.max_speed)
     x_new = x + dt * v_new
     return (x_new if rules.box is None else neighbors.wrap_positions(x_new, rules.box)), v_new
@@ -291,12 +294,12 @@ def step(x, v, dt: float, rules: Rules, method: str = "tree", extra=None):
 def polarization(v) -> float:
     """Order parameter ``|(1/N) Σ v_i/|v_i||`` in [0, 1]: 1 when all head the same way
     (a boid at rest has no heading and counts as zero)."""
-    return float(np.sqrt(squared_norms(np.mean(_headings(v)[0], axis=0))))
+    return float(np.sqrt(squared_norms(np.mean(_headings(real_array("v", v, (None, None)))[0], axis=0))))
 
 
 def nearest_distances(x, box: float | None = None) -> np.ndarray:
     """Distance (m) from each boid to its nearest neighbour (periodic if ``box``)."""
-    pts = neighbors.wrap_positions(np.asarray(x, dtype=float), box)
+    pts = neighbors.wrap_positions(real_array("x", x, (None, None)), box)
     dist, _ = cKDTree(pts, boxsize=box).query(pts, k=2)
     return dist[:, 1]
 
@@ -305,7 +308,7 @@ def random_polarization(n: int) -> float:
     """Expected polarization of ``n`` independent uniformly random 2D headings, to
     ``O(1/n)``: the sum of ``n`` unit vectors is nearly Gaussian with variance ``n/2``
     per axis, so its length is Rayleigh with mean ``√(π n)/2``: ``√π / (2 √n)``."""
-    return float(np.sqrt(np.pi) / (2.0 * np.sqrt(n)))
+    return float(np.sqrt(np.pi) / (2.0 * np.sqrt(positive_int("n", n))))
 
 
 def random_nearest_distance(n: int, box: float) -> float:
@@ -314,12 +317,13 @@ def random_nearest_distance(n: int, box: float) -> float:
     (where the disc fits; beyond, the integrand is below 10⁻³⁰⁰ for any realistic n).
     With ``u = π r²/A`` it is an incomplete beta function, computed in closed form:
     ``½ √(A/π) B(½, n) I_{π/4}(½, n)``, close to ``1/(2√ρ)`` for large ``n``."""
-    area = float(box) ** 2
+    n, area = positive_int("n", n), positive_finite("box", box) ** 2
     return float(0.5 * np.sqrt(area / np.pi) * beta(0.5, n) * betainc(0.5, n, np.pi / 4))
 
 
 def random_flock(n: int, box: float, speed: float, rng: np.random.Generator):
     """``n`` boids uniform in the square ``[0, box)²`` with random headings at ``speed``."""
+    n, box, speed = positive_int("n", n), positive_finite("box", box), nonnegative("speed", speed)
     x = rng.uniform(0.0, box, (n, 2))
     theta = rng.uniform(0.0, 2.0 * np.pi, n)
     return x, speed * np.stack((np.cos(theta), np.sin(theta)), axis=1)

@@ -143,8 +143,8 @@ def self_contact(thickness: float, mass=None, iterations: int = 2):
     """
     thickness = _validate.positive_finite("thickness", thickness)
     iterations = _validate.positive_int("iterations", iterations)
-    inv = None if mass is None else 1.0 / _validate.state_array("mass", mass)
-    if inv is not None and (np.iscomplexobj(inv) or np.any(inv <= 0) or inv.ndim != 1):
+    inv = None if mass is None else 1.0 / _validate.positive_array("mass", mass)
+    if inv is not None and inv.ndim != 1:
         raise ValueError("mass must be a 1-D array of positive masses, one per particle")
 
     def post_step(t, y):

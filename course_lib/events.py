@@ -12,17 +12,20 @@ to be located from the samples around it. Two rules are provided:
   acceleration ``a``, the motion that velocity Verlet reproduces exactly).
 
 Samples must be 1-D arrays of one length (``ValueError`` naming them otherwise).
-Imports: numpy only (core layer).
+Times must be finite; the sampled values may hold NaN (a run stopped by a blow-up).
+Imports: numpy and ``_validate`` (core layer).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from . import _validate
+
 
 def _samples(t, h, names: str = "t, h") -> tuple[np.ndarray, np.ndarray]:
-    t = np.asarray(t, dtype=float)
-    h = np.asarray(h, dtype=float)
+    first, second = names.split(", ")
+    t, h = _validate.real_array(first, t), _validate.numbers(second, h)
     if t.ndim != 1 or t.shape != h.shape:
         raise ValueError(f"{names} must be 1-D arrays of one length, got shapes {t.shape} and "
                          f"{h.shape}")
@@ -31,6 +34,8 @@ def _samples(t, h, names: str = "t, h") -> tuple[np.ndarray, np.ndarray]:
 
 def crossing_linear(t0: float, h0: float, t1: float, h1: float, level: float = 0.0) -> float:
     """Time at which the straight line through ``(t0, h0)`` and ``(t1, h1)`` meets ``level``."""
+    t0, h0, t1, h1, level = (_validate.finite_real(k, x) for k, x in
+                             (("t0", t0), ("h0", h0), ("t1", t1), ("h1", h1), ("level", level)))
     if h0 == h1:
         raise ValueError("h0 == h1: the line never crosses the level")
     return t0 + (t1 - t0) * (h0 - level) / (h0 - h1)
@@ -42,6 +47,8 @@ def crossing_ballistic(h: float, v: float, a: float, level: float = 0.0) -> floa
     Written in the cancellation-free form of the quadratic formula so that it stays
     accurate when ``a`` is tiny or zero (then it reduces to ``(level - h) / v``).
     """
+    h, v, a, level = (_validate.finite_real(k, x)
+                      for k, x in (("h", h), ("v", v), ("a", a), ("level", level)))
     c = h - level
     if c == 0.0:
         return 0.0
@@ -81,6 +88,7 @@ def first_crossing(t, h, level: float = 0.0, *, rule: str = "linear", v=None, a=
     if rule not in ("linear", "ballistic"):
         raise ValueError(f"unknown rule {rule!r}; use 'linear' or 'ballistic'")
     t, h = _samples(t, h)
+    level = _validate.finite_real("level", level)
     below = np.flatnonzero(h < level)
     if below.size == 0:
         return float("nan")
@@ -102,7 +110,7 @@ def upward_crossings(t, s, level: float = 0.0) -> np.ndarray:
     zero upwards once per turn.
     """
     t, s = _samples(t, s, "t, s")
-    s = s - level
+    s = s - _validate.finite_real("level", level)
     k = np.flatnonzero((s[:-1] < 0) & (s[1:] >= 0))
     return t[k] + (t[k + 1] - t[k]) * (-s[k]) / (s[k + 1] - s[k])
 
@@ -137,7 +145,7 @@ def fit_circle(points) -> tuple[np.ndarray, float]:
 
     Exact when the points lie on a circle; used to measure the radius of a gyrating charge.
     """
-    p = np.asarray(points, dtype=float)
+    p = _validate.real_array("points", points)
     if p.ndim != 2 or p.shape[1] != 2 or p.shape[0] < 3:
         raise ValueError(f"points must have shape (n >= 3, 2), got {p.shape}")
     A = np.column_stack((2.0 * p, np.ones(len(p))))

@@ -18,7 +18,10 @@ Field = Callable[[float, np.ndarray], np.ndarray]
 
 
 def _positions(X) -> np.ndarray:
-    X = np.asarray(X, dtype=float)
+    try:
+        X = np.asarray(X, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"X must be an array of numbers of shape (..., 2), got {type(X).__name__}") from None
     if X.ndim < 1 or X.shape[-1] != 2:
         raise ValueError(f"X must have shape (..., 2) (2D positions), got {X.shape}")
     return X

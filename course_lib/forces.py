@@ -33,10 +33,21 @@ def _per_particle(values, like: np.ndarray, name: str = "mass"):
     return c.reshape(-1, *([1] * (like.ndim - 1))) if like.ndim >= 2 else c[0]
 
 
+def _nbody(name, mass, shape, G, softening, of="x"):
+    """Masses (> 0, broadcast to ``shape`` if given), ``G`` > 0 and ``softening`` >= 0, checked."""
+    m = _validate.positive_array(name, mass)
+    if shape is not None:
+        if m.ndim > 1 or (m.ndim == 1 and m.shape != shape):
+            raise ValueError(f"{name} must be a scalar or have one entry per body of {of} {shape}, "
+                             f"got {m.shape}")
+        m = np.broadcast_to(m, shape)
+    return m, _validate.positive_finite("G", G), _validate.nonnegative("softening", softening)
+
+
 def gravity_force(mass, g=G_EARTH) -> np.ndarray:
     """Weight ``m g`` of each particle: shape ``(N, d)`` with ``d = len(g)``."""
-    g = np.asarray(g, dtype=float)
-    m = np.atleast_1d(np.asarray(mass, dtype=float))
+    g = _validate.vector("g", g)
+    m = np.atleast_1d(_validate.positive_array("mass", mass))
     return m[:, None] * g[None, :]
 
 
@@ -44,7 +55,7 @@ def constant_gravity(mass, g=G_EARTH):
     """Force ``F(t, x, v) = m g`` (uniform gravity). ``g`` must match the dimension of x;
     ``mass`` is a scalar or ``(N,)`` (kg); ``x`` is ``(N, d)`` or ``(d,)``."""
     g = _validate.vector("g", g)
-    mass = np.asarray(mass, dtype=float)
+    mass = _validate.positive_array("mass", mass)
 
     def F(t, x, v):
         x = np.asarray(x)
@@ -125,8 +136,13 @@ def nbody_gravity_force(x, mass, G: float = 1.0, softening: float = 0.0) -> np.n
     floats however large ``N`` is. Positions are taken about their mean, so that the two
     sums cancel as little as possible.
     """
-    x = np.asarray(x, dtype=float)
-    m = np.broadcast_to(np.asarray(mass, dtype=float), x.shape[:1])
+    x = _validate.positions("x", x)
+    return _nbody_force(x, *_nbody("mass", mass, x.shape[:1], G, softening))
+
+
+def _nbody_force(x, m, G, softening):
+    """:func:`nbody_gravity_force` on checked arguments (the force factory's every call)."""
+    m = np.broadcast_to(m, x.shape[:1])
     centred = x - x.mean(axis=0)
     weighted = m[:, None] * centred                         # m_j x_j
     out = np.zeros_like(x)                                  # Σ_j s_ij m_j x_j
@@ -144,14 +160,12 @@ def nbody_gravity_force(x, mass, G: float = 1.0, softening: float = 0.0) -> np.n
 
 def nbody_gravity(mass, G: float = 1.0, softening: float = 0.0):
     """Force factory for :func:`nbody_gravity_force`."""
-    softening = float(softening)
-    if softening < 0:
-        raise ValueError(f"softening must be >= 0, got {softening}")
+    mass, G, softening = _nbody("mass", mass, None, G, softening)
 
     def F(t, x, v):
         if np.ndim(x) == 1:                  # a lone body feels no pull
             return np.zeros(np.shape(x))
-        return nbody_gravity_force(x, mass, G, softening)
+        return _nbody_force(np.asarray(x, dtype=float), mass, G, softening)
 
     return F
 
@@ -161,8 +175,8 @@ def nbody_potential_energy(x, mass, G: float = 1.0, softening: float = 0.0) -> n
 
     Each state is summed a block of rows at a time, like :func:`nbody_gravity_force`.
     """
-    x = np.asarray(x, dtype=float)
-    m = np.broadcast_to(np.asarray(mass, dtype=float), x.shape[-2:-1])
+    x = _validate.numbers("x", x)  # NaN rows allowed: a trajectory after a blow-up
+    m, G, softening = _nbody("mass", mass, x.shape[-2:-1], G, softening)
     states = x.reshape(-1, *x.shape[-2:])
     if states.shape[1] <= 16:                              # few bodies: all pairs at once
         iu = np.triu_indices(states.shape[1], 1)
@@ -181,13 +195,20 @@ def nbody_potential_energy(x, mass, G: float = 1.0, softening: float = 0.0) -> n
 def linear_drag_force(v, b, wind=0.0) -> np.ndarray:
     """Viscous (Stokes) drag ``-b (v - w)``: ``b`` in kg/s (scalar or per particle ``(N,)``),
     wind ``w`` in m/s."""
-    v = np.asarray(v, dtype=float)
-    return -_per_particle(b, v, "b") * (v - wind)
+    v, b = _validate.real_array("v", v), _validate.real_array("b", b)
+    if np.any(b < 0):
+        raise ValueError(f"b must be >= 0 (kg/s), got {b!r}")
+    return -_per_particle(b, v, "b") * (v - _validate.real_array("wind", wind))
 
 
 def quadratic_drag_force(v, c, wind=0.0) -> np.ndarray:
     """Air drag ``-c |v - w| (v - w)``: ``c`` in kg/m (``½ ρ C_d A``), wind ``w`` in m/s."""
-    rel = np.asarray(v) - wind
+    v, c = _validate.real_array("v", v), _validate.nonnegative("c", c)
+    return _quadratic(v, c, _validate.real_array("wind", wind))
+
+
+def _quadratic(v, c, wind):
+    rel = v - wind
     speed = np.linalg.norm(rel, axis=-1, keepdims=True)
     return -float(c) * speed * rel
 
@@ -197,16 +218,13 @@ def drag(b: float = 0.0, c: float = 0.0, wind=0.0):
 
     Terminal velocity of a falling mass with linear drag only is ``m g / b``.
     """
-    b = float(b)
-    c = float(c)
-    if b < 0 or c < 0:
-        raise ValueError(f"drag coefficients must be >= 0, got b={b}, c={c}")
-    w = np.asarray(wind, dtype=float)
+    b, c = _validate.nonnegative("b", b), _validate.nonnegative("c", c)
+    w = _validate.real_array("wind", wind)
 
     def F(t, x, v):
         out = -b * (v - w)
         if c:
-            out = out + quadratic_drag_force(v, c, w)
+            out = out + _quadratic(np.asarray(v), c, w)
         return out
 
     return F
@@ -214,9 +232,7 @@ def drag(b: float = 0.0, c: float = 0.0, wind=0.0):
 
 def viscous_damping(c: float):
     """Force factory ``-c v``: damping against absolute motion (kg/s), e.g. to calm a strand."""
-    c = float(c)
-    if c < 0:
-        raise ValueError(f"c must be >= 0, got {c}")
+    c = _validate.nonnegative("c", c)
 
     def F(t, x, v):
         return -c * v
@@ -226,22 +242,32 @@ def viscous_damping(c: float):
 
 def lorentz_force(v, q, B, E=None) -> np.ndarray:
     """Electromagnetic force ``q (E + v × B)`` on charges ``q`` (C), 3D only."""
-    v = np.asarray(v, dtype=float)
+    v = _validate.real_array("v", v)
     if v.shape[-1] != 3:
         raise ValueError(f"lorentz_force needs 3D velocities, got shape {v.shape}")
-    q = _per_particle(q, v, "q")
-    out = np.cross(v, np.asarray(B, dtype=float))
-    if E is not None:
-        out = out + np.asarray(E, dtype=float)
-    return q * out
+    q, B, E = _fields(q, B, E)
+    return _lorentz(v, _per_particle(q, v, "q"), B, E)
+
+
+def _fields(q, B, E):
+    """Charges, ``B`` and ``E`` checked: finite, the fields 3-vectors."""
+    B = _validate.real_array("B", B, (3,))
+    return _validate.real_array("q", q), B, None if E is None else _validate.real_array("E", E, (3,))
+
+
+def _lorentz(v, q, B, E):
+    out = np.cross(v, B)
+    return q * (out if E is None else out + E)
 
 
 def magnetic(q, B, E=None):
     """Force factory for :func:`lorentz_force`. A charge in a uniform ``B`` moves on a helix
     of radius ``m |v⊥| / (|q| |B|)`` with angular frequency ``|q| |B| / m``."""
+    q, B, E = _fields(q, B, E)
 
     def F(t, x, v):
-        return lorentz_force(v, q, B, E)
+        v = np.asarray(v, dtype=float)
+        return _lorentz(v, _per_particle(q, v, "q"), B, E)
 
     return F
 
@@ -249,6 +275,9 @@ def magnetic(q, B, E=None):
 def attractor(center, strength: float, softening: float = 0.1):
     """Force factory pulling every particle toward ``center`` with ``strength / (r² + ε²)``
     (a user-steerable "magnet"); ``center`` may be a callable ``center(t)``."""
+    center = center if callable(center) else _validate.vector("center", center)
+    strength = _validate.finite_real("strength", strength)
+    softening = _validate.nonnegative("softening", softening)
 
     def F(t, x, v):
         c = np.asarray(center(t) if callable(center) else center, dtype=float)
@@ -265,8 +294,8 @@ def angular_momentum(y, mass) -> np.ndarray:
     2D: ``Σ m (x v_y - y v_x)``, a scalar per state. 3D: ``Σ m x × v``, shape ``(3,)`` per
     state. ``y`` is ``(2, N, d)``, ``(2, d)`` or a trajectory of them; ``mass`` scalar or ``(N,)``.
     """
-    x, v = split_particles(y)
-    m = np.broadcast_to(np.asarray(mass, dtype=float), x.shape[-2:-1])
+    x, v = split_particles(_validate.numbers("y", y))
+    m = _nbody("mass", mass, x.shape[-2:-1], 1.0, 0.0, "y")[0]
     if x.shape[-1] == 2:
         return np.sum(m * (x[..., 0] * v[..., 1] - x[..., 1] * v[..., 0]), axis=-1)
     if x.shape[-1] == 3:
@@ -276,7 +305,7 @@ def angular_momentum(y, mass) -> np.ndarray:
 
 def nbody_energy(y, mass, G: float = 1.0, softening: float = 0.0) -> np.ndarray:
     """Kinetic plus (softened) gravitational potential energy (J) of a state or trajectory."""
-    x, v = split_particles(y)
-    m = np.broadcast_to(np.asarray(mass, dtype=float), x.shape[-2:-1])
+    x, v = split_particles(_validate.numbers("y", y))
+    m, G, softening = _nbody("mass", mass, x.shape[-2:-1], G, softening, "y")
     kinetic = 0.5 * np.sum(m * np.sum(v * v, axis=-1), axis=-1)
     return kinetic + nbody_potential_energy(x, m, G, softening)

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from . import _validate
 from .collisions import sphere
 from .forces import G_EARTH, constant_gravity, viscous_damping
 from .springs import SpringNetwork, max_frequency
@@ -67,11 +68,26 @@ class HairRun:
     message: str
 
 
+def _strand(network, mass, pinned, damping=0.0, gravity=None, x0=None, v0=None, dim=None):
+    """The strand's arguments checked (a ValueError or TypeError names the bad one):
+    ``(x0, v0, mass (N,), pinned, damping, gravity)``, ``x0`` and ``v0`` copied."""
+    if not isinstance(network, SpringNetwork):
+        raise TypeError(f"network must be a SpringNetwork, got {type(network).__name__}")
+    n = network.n_particles
+    x = None if x0 is None else _validate.positions("x0", x0, n)
+    dim = dim if x is None else x.shape[1]
+    v = None if v0 is None else _validate.positions("v0", v0, n, dim)
+    g = None if gravity is None else _validate.real_array("gravity", gravity, (dim,))
+    return (x, v, _validate.masses("mass", mass, n), _validate.indices("pinned", pinned, n),
+            _validate.nonnegative("damping", damping), g)
+
+
 def strand_system(network: SpringNetwork, mass=MASS, pinned=(0,), damping: float = 0.0,
                   gravity=G_EARTH) -> NewtonianSystem:
     """Springs + gravity + viscous damping ``-c v`` as a :class:`NewtonianSystem`, for
     :func:`~course_lib.integrators.integrate` (any method); :func:`symplectic_euler_run`
     is the same system stepped by symplectic Euler."""
+    _strand(network, mass, pinned, damping, gravity)
     forces = [network.force]
     if gravity is not None:
         forces.append(constant_gravity(mass, gravity))
@@ -98,12 +114,16 @@ def symplectic_euler_run(x0, network: SpringNetwork, dt: float, n_steps: int, *,
     message : str
         ``"ok"`` or ``"unstable at step k, t = … (|y| > bound)"``.
     """
-    x = np.array(x0, dtype=float)
+    x, v, m, pinned, damping, gravity = _strand(network, mass, pinned, damping, gravity, x0, v0)
+    dt = _validate.positive_finite("dt", dt)
+    n_steps = _validate.positive_int("n_steps", n_steps)
+    blowup_bound = _validate.positive_finite("blowup_bound", blowup_bound)
+    if post_step is not None:
+        _validate.callable_arg("post_step", post_step)
     n, dim = x.shape
-    v = np.zeros_like(x) if v0 is None else np.array(v0, dtype=float)
-    m = np.broadcast_to(np.asarray(mass, dtype=float), (n,))
+    v = np.zeros_like(x) if v is None else v
     free = np.ones(n)
-    free[list(pinned)] = 0.0
+    free[pinned] = 0.0
     M = network.n_springs
     # D: +1 at (i_s, s), -1 at (j_s, s). Gather: d = Dᵀ x; scatter: F = D f. Dense for one
     # strand, where it is fastest, sparse for more; each step is a dozen whole-array operations.
@@ -161,7 +181,9 @@ def simulate(x0, network: SpringNetwork, *, frames: int, substeps: int, fps: flo
     """Run a strand (or hairstyle) for ``frames`` frames of ``substeps`` steps each, with
     symplectic Euler and ``dt = 1 / (fps * substeps)``. ``blowup_bound`` (m or m/s) is far
     beyond anything a 30 cm strand does, so passing it means the run exploded."""
-    dt = 1.0 / (fps * substeps)
+    frames = _validate.positive_int("frames", frames)
+    substeps = _validate.positive_int("substeps", substeps)
+    dt = 1.0 / (_validate.positive_finite("fps", fps) * substeps)
     x, message = symplectic_euler_run(x0, network, dt, frames * substeps, mass=mass,
                                       pinned=pinned, damping=damping, gravity=gravity, v0=v0,
                                       post_step=post_step, blowup_bound=blowup_bound)
@@ -185,8 +207,10 @@ def chain_dt_max(network: SpringNetwork, x0, mass=MASS, pinned=(0,), n_steps: in
     the vibration is still far smaller than a segment (linear). The bisection brackets
     ``[0.6, 1.6] × 2 / ω_max``.
     """
+    x0, _, mass, pinned, _, _ = _strand(network, mass, pinned, x0=x0)
+    n_steps = _validate.positive_int("n_steps", n_steps)
+    amplitude = _validate.positive_finite("amplitude", amplitude)
     rng = np.random.default_rng(seed)
-    x0 = np.asarray(x0, dtype=float)
     nudge = amplitude * rng.standard_normal(x0.shape)
     nudge[list(pinned)] = 0.0
     guess = 2.0 / max_frequency(network, x0, mass, pinned)
@@ -232,6 +256,10 @@ def hairstyle(n_strands: int = 7, center=(0.0, 0.0, 0.0), radius: float = 0.1,
     network : SpringNetwork
     roots : ndarray of int, shape (n_strands,)
     """
+    n_strands = _validate.positive_int("n_strands", n_strands)
+    c = _validate.real_array("center", center, (3,))
+    radius = _validate.positive_finite("radius", radius)
+    curl_radius = _validate.nonnegative("curl_radius", curl_radius)
     params = {**STRAND, **strand}
     n = params["n"]
     rng = np.random.default_rng(seed)
@@ -239,7 +267,6 @@ def hairstyle(n_strands: int = 7, center=(0.0, 0.0, 0.0), radius: float = 0.1,
     polar = np.deg2rad(45.0 + 15.0 * rng.uniform(-1, 1, n_strands))
     normal = np.stack((np.sin(polar) * np.cos(azimuth), np.cos(polar),
                        np.sin(polar) * np.sin(azimuth)), axis=1)
-    c = np.asarray(center, dtype=float)
     shapes = [helix(n, params["length"], curl_radius, turn, root=c + radius * nrm, axis=nrm)
               for nrm in normal]
     nets = [strand_network(x, params["k_edge"], params.get("k_bend", 0.0),

@@ -28,6 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from . import _validate
+
 #: Row-block size bound of :func:`all_pairs`: at most this many offsets are held at once.
 BLOCK_ENTRIES = 2_000_000
 
@@ -101,10 +103,12 @@ def wrap_positions(x, box) -> np.ndarray:
     box : None, float or array_like of shape (dim,)
         Side(s) of the periodic box (m).
     """
-    x = np.asarray(x, dtype=float)
+    x = _validate.real_array("x", x)
     if box is None:
         return x
-    sides = np.broadcast_to(np.asarray(box, dtype=float), x.shape[-1:])
+    sides = np.broadcast_to(_validate.real_array("box", box), x.shape[-1:])
+    if np.any(sides <= 0):
+        raise ValueError(f"box must be > 0 on every axis (m), got {box!r}")
     w = np.mod(x, sides)
     # a tiny negative coordinate rounds to exactly `box`; its image at 0 is the same point
     return np.where(w >= sides, 0.0, w)

@@ -4,8 +4,9 @@ Holds :class:`ParticleSystem` (one preallocated array per attribute, the live pa
 in the first ``n`` rows; a frame emits, updates, and deletes the expired by vectorized
 compaction), :class:`Emitter` (count per frame = mean + variance × U(−1, 1), a mean that
 may change with time, attributes drawn around a mean, point/disc/ring/sphere shapes), its
-samplers, and the exact expected population (:func:`expected_population`). Core module:
-imports NumPy and :mod:`course_lib._validate` only.
+samplers, and the exact expected population (:func:`expected_population`, written in
+:mod:`course_lib.population`). Core module: imports NumPy and the core's ``_validate`` and
+``population`` only.
 
 Reeves calls the half-width of a uniform spread its "variance": an attribute drawn as
 ``mean + variance × U(−1, 1)`` lies in ``[mean − variance, mean + variance]`` and has the
@@ -25,17 +26,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _validate
+from ._validate import count, finite_real, mean_and_spread, nonnegative, real_array, vector
+from .population import LIFETIME_RTOL, expected_population, reached, steady_population, survival
+
+__all__ = ["LIFETIME_RTOL", "SHAPES", "Emitter", "ParticleSystem", "around", "expected_population", "reached",
+           "reeves_count", "sample_directions", "sample_shape", "steady_population", "survival"]
 
 SHAPES = ("point", "disc", "ring", "sphere")
-#: Tolerance of :func:`reached`: ``m dt`` and a decimal lifetime differ by ~1.5 ulp at most.
-LIFETIME_RTOL = 4.0 * np.finfo(float).eps
 #: Hidden per-particle arrays: steps lived since the age was last set, and that age (s).
 _CLOCK = {"steps": (), "age_at": ()}
-
-
-def reached(age, lifetime):
-    """Has ``age`` (s) reached ``lifetime`` (s)? ``age >= lifetime (1 − LIFETIME_RTOL)``."""
-    return np.asarray(age) >= np.asarray(lifetime) * (1.0 - LIFETIME_RTOL)
 
 
 class ParticleSystem:
@@ -61,10 +60,9 @@ class ParticleSystem:
 
     def __init__(self, dim: int = 3, capacity: int = 1024,
                  attributes: Mapping[str, tuple[int, ...]] | None = None):
-        if dim not in (2, 3):
+        if isinstance(dim, bool) or dim not in (2, 3):
             raise ValueError(f"dim must be 2 or 3, got {dim!r}")
-        if not isinstance(capacity, int | np.integer) or capacity < 1:
-            raise ValueError(f"capacity must be an integer >= 1, got {capacity!r}")
+        capacity = _validate.positive_int("capacity", capacity)
         self.dim, self.n, self._dt = dim, 0, None
         self.shapes = {"x": (dim,), "v": (dim,), "age": (), "lifetime": ()}
         for name, shape in (attributes or {}).items():
@@ -104,10 +102,14 @@ class ParticleSystem:
             raise KeyError(f"unknown attributes {sorted(unknown)}; valid: {', '.join(self.shapes)}")
         if "x" not in values:
             raise ValueError("add needs positions x of shape (k, dim)")
-        x = np.asarray(values["x"], dtype=float)
+        x = real_array("x", values["x"])
         if x.ndim != 2 or x.shape[1] != self.dim:
             raise ValueError(f"x must have shape (k, {self.dim}), got {x.shape}")
         k = x.shape[0]
+        values = {name: _validate.broadcastable(name, value, (k, *self.shapes[name]))
+                  for name, value in values.items()}
+        if np.any(values.get("lifetime", 1.0) <= 0) or np.any(values.get("age", 0.0) < 0):
+            raise ValueError("every lifetime must be > 0 and every age >= 0 (s)")
         self._reserve(k)
         rows = slice(self.n, self.n + k)
         values = {**values, "age_at": values.get("age", 0.0)}
@@ -139,7 +141,8 @@ class ParticleSystem:
     def advect(self, t: float, dt: float, field: Callable) -> None:
         """Carry the particles by a velocity field ``V(t, x)`` with one midpoint (RK2) step;
         their ``v`` is set to the field's velocity at the midpoint, and they age by ``dt``."""
-        dt = _validate.positive_finite("dt", dt)
+        dt, t = _validate.positive_finite("dt", dt), finite_real("t", t)
+        _validate.callable_arg("field", field, "(t, x)")
         x = self["x"]
         mid = x + 0.5 * dt * np.asarray(field(t, x))
         vel = np.asarray(field(t + 0.5 * dt, mid))
@@ -169,6 +172,7 @@ class ParticleSystem:
 
 def around(mean, variance, size, rng: np.random.Generator) -> np.ndarray:
     """``mean + variance × U(−1, 1)``, ``size`` draws (Reeves' attribute rule)."""
+    mean, variance, size = finite_real("mean", mean), nonnegative("variance", variance), count("size", size)
     return mean + variance * rng.uniform(-1.0, 1.0, size)
 
 
@@ -176,6 +180,7 @@ def reeves_count(mean: float, variance: float, rng: np.random.Generator) -> int:
     """Particles this frame: ``mean + variance × U(−1, 1)``, rounded at random,
     ``⌊y + u⌋`` with ``u ~ U(0, 1)``, which keeps the mean exactly ``mean`` (if
     ``mean >= variance``); never negative."""
+    mean, variance = finite_real("mean", mean), nonnegative("variance", variance)
     y = mean + variance * rng.uniform(-1.0, 1.0)
     return max(0, int(np.floor(y + rng.random())))
 
@@ -197,9 +202,8 @@ def sample_shape(shape: str, k: int, rng: np.random.Generator, center=(0.0, 0.0,
     ring lie in the plane through ``center`` normal to ``normal``.
     """
     _validate.choice("shape", shape, SHAPES)
-    c = np.asarray(center, dtype=float)
-    if c.shape not in ((2,), (3,)):
-        raise ValueError(f"center must have shape (2,) or (3,), got {c.shape}")
+    k, radius, c = count("k", k), nonnegative("radius", radius), vector("center", center, dims=(2, 3))
+    normal = vector("normal", normal, nonzero=True, dims=(3,))
     if shape == "point":
         return np.tile(c, (k, 1))
     if shape == "sphere" and c.size != 3:
@@ -211,7 +215,7 @@ def sample_shape(shape: str, k: int, rng: np.random.Generator, center=(0.0, 0.0,
     phi = rng.uniform(0.0, 2.0 * np.pi, k)
     if c.size == 2:
         return c + np.stack((r * np.cos(phi), r * np.sin(phi)), axis=1)
-    e1, e2 = _plane_basis(np.asarray(normal, dtype=float))
+    e1, e2 = _plane_basis(normal)
     return c + (r * np.cos(phi))[:, None] * e1 + (r * np.sin(phi))[:, None] * e2
 
 
@@ -219,7 +223,8 @@ def sample_directions(k: int, rng: np.random.Generator, direction=(0.0, 1.0, 0.0
                       spread: float = 0.0) -> np.ndarray:
     """``k`` unit vectors (``(k, dim)``) within ``spread`` (rad) of ``direction``, uniform
     over the cone's cap in 3D (``cos θ`` uniform), uniform in angle in 2D."""
-    d = np.asarray(direction, dtype=float)
+    k, spread = count("k", k), nonnegative("spread", spread)
+    d = vector("direction", direction, nonzero=True, dims=(2, 3))
     d = d / np.linalg.norm(d)
     if d.size == 2:
         a = np.arctan2(d[1], d[0]) + rng.uniform(-spread, spread, k)
@@ -260,12 +265,15 @@ class Emitter:
 
     def __post_init__(self):
         _validate.choice("shape", self.shape, SHAPES)
-        dim = len(self.center)
+        for name in ("count", "count_variance", "radius", "speed_variance", "spread", "speed", "radial"):
+            if not callable(getattr(self, name)):
+                (finite_real if name in ("speed", "radial") else nonnegative)(name, getattr(self, name))
+        vector("normal", self.normal, nonzero=True)
+        mean_and_spread("lifetime", self.lifetime, self.lifetime_variance)
+        dim = vector("center", self.center, dims=(2, 3)).size
         self.direction = (0.0, 1.0, 0.0)[:dim] if self.direction is None else self.direction
-        if len(self.direction) != dim:
+        if vector("direction", self.direction, nonzero=True).shape != (dim,):
             raise ValueError(f"direction must have {dim} components like center, got {self.direction}")
-        if not 0.0 <= self.lifetime_variance <= self.lifetime:
-            raise ValueError("lifetime_variance must lie in [0, lifetime] (lifetimes stay >= 0)")
 
     def mean_count(self, t: float) -> float:
         """Mean particles per frame at time ``t`` (s)."""
@@ -289,42 +297,3 @@ class Emitter:
         """Add this frame's particles to ``system``; returns how many."""
         k = reeves_count(self.mean_count(t), self.count_variance, rng)
         return system.add(**self.sample(k, rng)) if k else 0
-
-
-# --- the expected population ----------------------------------------------------------------
-
-
-def survival(age, lifetime: float, lifetime_variance: float = 0.0) -> np.ndarray:
-    """``P(age has not reached ℓ)`` for lifetimes ``ℓ`` uniform on ``[L − V, L + V]`` (s):
-    with ``V = 0`` exactly what a run does (:func:`reached`); with ``V > 0`` the tolerance
-    of :func:`reached` would move it by ~1e-16 and is left out."""
-    age = np.asarray(age, dtype=float)
-    if lifetime_variance == 0.0:
-        return (~reached(age, lifetime)).astype(float)
-    return np.clip((lifetime + lifetime_variance - age) / (2.0 * lifetime_variance), 0.0, 1.0)
-
-
-def expected_population(mean_counts, dt: float, lifetime: float,
-                        lifetime_variance: float = 0.0) -> np.ndarray:
-    """Exact expected live count after each frame of emit, step, expire.
-
-    A particle emitted in frame ``k`` has lived ``j − k + 1`` steps when counted after
-    frame ``j``, so its age is ``(j − k + 1) dt`` (computed as a run computes it), and
-    ``E[N_j] = Σ_k μ_k S((j − k + 1) dt)``: a convolution of the mean counts ``μ_k``
-    (shape ``(frames,)``) with the survival function :func:`survival`.
-    """
-    mu = np.asarray(mean_counts, dtype=float)
-    s = survival(np.arange(1, mu.size + 1, dtype=float) * dt, lifetime, lifetime_variance)
-    return np.convolve(mu, s)[: mu.size]
-
-
-def steady_population(mean_count: float, dt: float, lifetime: float,
-                      lifetime_variance: float = 0.0) -> float:
-    """Long-run expected population for a constant mean count ``μ`` per frame,
-    ``μ Σ_{m>=1} S(m dt)`` (counted at frame ends, at ages ``dt, 2 dt, ...``). When
-    ``(L ± V)/dt`` are whole and ``V > 0`` it is ``μ (L/dt − 1/2)``: Little's law (rate ×
-    mean lifetime, ``μ L/dt``) less half a frame of emission. With ``V = 0`` and ``L/dt``
-    whole it is ``μ (L/dt − 1)``: a particle lives ``L/dt`` steps, deleted before the count.
-    """
-    m = np.arange(1, int(np.ceil((lifetime + lifetime_variance) / dt)) + 2, dtype=float)
-    return float(mean_count * survival(m * dt, lifetime, lifetime_variance).sum())

@@ -95,6 +95,7 @@ def is_stable(method: str, z, tol: float = 1e-12):
     >>> bool(is_stable("symplectic_euler", 1.99j)), bool(is_stable("symplectic_euler", 2j))
     (True, False)
     """
+    tol = _validate.nonnegative("tol", tol)
     bounded = np.abs(amplification_factor(method, z)) <= 1.0 + tol
     if method in _NEWTONIAN:
         z = np.asarray(z, dtype=complex)
@@ -238,6 +239,11 @@ def bisect_stable_dt(is_stable, lo: float, hi: float, rtol: float = 1e-5) -> flo
     ``is_stable(lo)`` must be true and ``is_stable(hi)`` false (checked). Returns the
     stable end of the final bracket, whose width is below ``rtol * lo``.
     """
+    _validate.callable_arg("is_stable", is_stable, "(dt)")
+    lo, hi = _validate.positive_finite("lo", lo), _validate.positive_finite("hi", hi)
+    if hi <= lo:
+        raise ValueError(f"hi must exceed lo, got lo = {lo!r} and hi = {hi!r}")
+    rtol = _validate.positive_finite("rtol", rtol)
     if not is_stable(lo):
         raise ValueError(f"the run is already unstable at the lower bracket dt = {lo:g}")
     if is_stable(hi):

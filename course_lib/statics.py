@@ -35,6 +35,7 @@ import numpy as np
 from scipy.linalg import LinAlgError, cho_factor, cho_solve, eigh, eigvalsh
 from scipy.optimize import brentq
 
+from . import _validate
 from .springs import SpringNetwork, stiffness_matrix
 
 #: Eigenvalues of K above ``-CURVATURE_RTOL × λ_max`` count as zero (round-off, symmetries).
@@ -71,7 +72,8 @@ class Equilibrium:
 def free_coordinates(n: int, dim: int, pinned=(), axes=None) -> np.ndarray:
     """Indices into ``x.ravel()`` of the coordinates that may move: every component in
     ``axes`` (all if None) of every particle not in ``pinned``."""
-    free = np.setdiff1d(np.arange(n), np.asarray(pinned, dtype=int))
+    n, dim = _validate.positive_int("n", n), _validate.positive_int("dim", dim)
+    free = np.setdiff1d(np.arange(n), _validate.indices("pinned", pinned, n))
     axes = np.arange(dim) if axes is None else np.unique(np.asarray(axes, dtype=int))
     if axes.size == 0 or axes.min() < 0 or axes.max() >= dim:
         raise ValueError(f"axes must be coordinate indices in 0..{dim - 1}, got {axes.tolist()}")
@@ -82,7 +84,7 @@ def curvature(network: SpringNetwork, x, pinned=(), axes=None) -> np.ndarray:
     """Eigenvalues (N/m, ascending) of the stiffness matrix restricted to the free
     coordinates at ``x``: all positive at a strict minimum, one or more negative at a
     saddle. (Gravity is constant, so it adds nothing to the Hessian.)"""
-    x = np.asarray(x, dtype=float)
+    x = _validate.positions("x", x, network.n_particles)
     dofs = free_coordinates(*x.shape, pinned, axes)
     return eigvalsh(stiffness_matrix(network, x)[np.ix_(dofs, dofs)])
 
@@ -169,17 +171,12 @@ def equilibrium(x0, network: SpringNetwork, mass, pinned=(), gravity=(0.0, -9.81
         When no stable minimum is found within ``max_iter`` steps; the message says where
         it stopped.
     """
-    x = np.array(x0, dtype=float)
-    if x.ndim != 2 or x.shape[0] != network.n_particles or not np.all(np.isfinite(x)):
-        raise ValueError(f"x0 must be a finite array of shape ({network.n_particles}, d), "
-                         f"got shape {x.shape}")
+    x = _validate.positions("x0", x0, network.n_particles)
     n, dim = x.shape
-    m = np.broadcast_to(np.asarray(mass, dtype=float), (n,))
-    if not np.all(m > 0):
-        raise ValueError("mass must be positive")
-    g = np.asarray(gravity, dtype=float)
-    if g.shape != (dim,):
-        raise ValueError(f"gravity must have shape ({dim},), got {g.shape}")
+    m = _validate.masses("mass", mass, n)
+    g = _validate.real_array("gravity", gravity, (dim,))
+    rtol = _validate.positive_finite("rtol", rtol)
+    max_iter = _validate.positive_int("max_iter", max_iter)
     dofs = free_coordinates(n, dim, pinned, axes)
     weight = float(np.sum(m[np.unique(dofs // dim)]) * np.linalg.norm(g)) or 1.0
     # steps are measured over all free coordinates: a strand of n segments s long that

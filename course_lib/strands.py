@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _validate
 from .springs import SpringNetwork
 
 #: Offsets of the spring families: (offset, kind).
@@ -47,17 +48,19 @@ def helix(n: int = 16, length: float = 0.3, radius: float = 0.01, turn: float = 
     ``axis`` and one segment ``s = length / (n - 1)`` apart in space, so the helix rises
     by ``√(s² - (2 r sin(turn/2))²)`` per segment.
     """
-    if not isinstance(n, int | np.integer) or n < 2:
+    if _validate.positive_int("n", n) < 2:
         raise ValueError(f"n must be an integer >= 2, got {n!r}")
-    seg = float(length) / (n - 1)
-    chord = 2.0 * float(radius) * abs(np.sin(0.5 * float(turn)))
+    seg = _validate.positive_finite("length", length) / (n - 1)
+    radius, turn = _validate.nonnegative("radius", radius), _validate.finite_real("turn", turn)
+    root = _validate.real_array("root", root, (3,))
+    chord = 2.0 * radius * abs(np.sin(0.5 * turn))
     if not seg > chord:
         raise ValueError(f"radius {radius!r} and turn {turn!r} need a chord {chord:.3g} m "
                          f"shorter than the segment {seg:.3g} m")
     rise = np.sqrt(seg**2 - chord**2)
     e1, e2, a = _frame(axis)
     phase = float(turn) * np.arange(n)
-    return (np.asarray(root, dtype=float)
+    return (root
             + radius * ((np.cos(phase) - 1.0)[:, None] * e1 + np.sin(phase)[:, None] * e2)
             + (rise * np.arange(n))[:, None] * a)
 
@@ -67,8 +70,11 @@ def strand_network(x0, k_edge: float, k_bend: float = 0.0, k_twist: float = 0.0,
     """Edge ``(i, i+1)``, bending ``(i, i+2)`` and torsion ``(i, i+3)`` springs on the rest
     shape ``x0`` (shape ``(n, 3)``), rest lengths measured on it; a family of zero
     stiffness is left out. Springs are labelled ``"edge"``, ``"bend"``, ``"twist"``."""
-    x0 = np.asarray(x0, dtype=float)
+    x0 = _validate.positions("x0", x0, None, 3)
     n = x0.shape[0]
+    k_edge = _validate.positive_finite("k_edge", k_edge)
+    k_bend, k_twist = _validate.nonnegative("k_bend", k_bend), _validate.nonnegative("k_twist", k_twist)
+    c_edge, c_bend = _validate.nonnegative("c_edge", c_edge), _validate.nonnegative("c_bend", c_bend)
     stiff = {"edge": (k_edge, c_edge), "bend": (k_bend, c_bend), "twist": (k_twist, 0.0)}
     ii, jj, kk, cc, kinds = [], [], [], [], []
     for offset, kind in FAMILIES:
@@ -97,8 +103,9 @@ def _rotate(p, axis_unit, angle):
 def twist(x, angle: float, cut: int) -> np.ndarray:
     """A copy of ``x`` (shape ``(n, 3)``) with particles ``cut+1 ...`` turned by ``angle``
     (rad) about the line through ``x[cut]`` along the strand there, ``x[cut] - x[cut-1]``."""
-    x = np.array(x, dtype=float)
-    if not 1 <= cut < x.shape[0] - 1:
+    x = _validate.positions("x", x, None, 3)
+    angle = _validate.finite_real("angle", angle)
+    if isinstance(cut, bool) or not isinstance(cut, int | np.integer) or not 1 <= cut < x.shape[0] - 1:
         raise ValueError(f"cut must lie in [1, {x.shape[0] - 2}], got {cut!r}")
     u = x[cut] - x[cut - 1]
     u /= np.linalg.norm(u)
@@ -110,8 +117,12 @@ def twist_angle(x, x_rest, cut: int, tip: int = -1) -> np.ndarray:
     """Signed angle (rad) by which particle ``tip`` is turned about the axis of
     :func:`twist` (through ``x_rest[cut]`` along ``x_rest[cut] - x_rest[cut-1]``), from
     its rest position. ``x`` may be one state ``(n, 3)`` or many ``(F, n, 3)``."""
-    x = np.asarray(x, dtype=float)
-    x_rest = np.asarray(x_rest, dtype=float)
+    x = _validate.real_array("x", x)
+    x_rest = _validate.positions("x_rest", x_rest, None, 3)
+    if x.shape[-2:] != x_rest.shape:
+        raise ValueError(f"x must have the shape of x_rest {x_rest.shape} (or (F, n, 3)), got {x.shape}")
+    if isinstance(cut, bool) or not isinstance(cut, int | np.integer) or not 1 <= cut < x_rest.shape[0] - 1:
+        raise ValueError(f"cut must lie in [1, {x_rest.shape[0] - 2}], got {cut!r}")
     center = x_rest[cut]
     u = center - x_rest[cut - 1]
     u /= np.linalg.norm(u)

@@ -169,5 +169,8 @@ def oscillator(omega: float = 1.0, damping: float = 0.0) -> Callable:
 
 def oscillator_energy(y, omega: float = 1.0) -> np.ndarray:
     """``½ v² + ½ ω² x²`` per unit mass for states ``(..., 2)`` in the layout ``(x, v)``."""
-    y = np.asarray(y)
+    y = _validate.numbers("y", y)  # NaN rows allowed: a trajectory after a blow-up
+    if y.ndim < 1 or y.shape[-1] != 2:
+        raise ValueError(f"y must have shape (..., 2) in the layout (x, v), got {y.shape}")
+    omega = _validate.positive_finite("omega", omega)
     return 0.5 * y[..., 1] ** 2 + 0.5 * omega**2 * y[..., 0] ** 2

@@ -157,6 +157,8 @@ def step(b: Bodies, dt: float, forces: Callable | None = None, contact: Callable
     ``contact.project(b)``, called after the drift to undo deep penetration. The rotation
     uses ``method`` of :data:`course_lib.rigid.free.METHODS`.
     """
+    dt = _validate.positive_finite("dt", dt)
+    _validate.choice("method", method, free.METHODS)
     before = (b.P, b.L)
     if forces is not None:
         F, tau = forces(b)

@@ -83,6 +83,12 @@ def jacobian_x(network: SpringNetwork, x, v=None, *, definite: bool = False) -> 
         Drop the negative geometric term of compressed springs, so that ``-∂F/∂x`` (elastic
         part) is positive semidefinite.
     """
+    x = _validate.positions("x", x, network.n_particles)
+    v = None if v is None else _validate.positions("v", v, *x.shape)
+    return _jacobian_x(network, x, v, definite)
+
+
+def _jacobian_x(network, x, v, definite):
     u, inv, uu, eye = _geometry(network, x)
     geometric = 1.0 - network.rest * inv
     if definite:
@@ -102,7 +108,7 @@ def jacobian_x(network: SpringNetwork, x, v=None, *, definite: bool = False) -> 
 def jacobian_v(network: SpringNetwork, x) -> sp.csr_matrix:
     """``∂F/∂v`` of the damping along the springs (N s/m): blocks ``-c u uᵀ``, sparse
     ``(N d, N d)``, symmetric negative semidefinite."""
-    _, _, uu, _ = _geometry(network, x)
+    _, _, uu, _ = _geometry(network, _validate.positions("x", x, network.n_particles))
     return assemble(network, -network.c[:, None, None] * uu)
 
 
@@ -136,10 +142,10 @@ def max_frequency(network: SpringNetwork, x, mass, pinned=None) -> float:
     pinned) particles. An explicit method is stable while ``ω_max dt`` stays inside its
     stability interval, e.g. ``dt < 2 / ω_max`` for symplectic Euler.
     """
-    x = np.asarray(x, dtype=float)
+    x = _validate.positions("x", x, network.n_particles)
     n, dim = x.shape
-    m = np.broadcast_to(_validate.state_array("mass", mass), (n,))
-    dofs, free = _free_dofs(n, dim, pinned)
+    m = _validate.masses("mass", mass, n)
+    dofs, free = _free_dofs(n, dim, _validate.indices("pinned", pinned, n))
     w = sp.diags(1.0 / np.sqrt(np.repeat(m[free], dim)))
     A = w @ stiffness_matrix(network, x, sparse=True)[dofs][:, dofs] @ w
     if A.shape[0] <= DENSE_LIMIT:
@@ -153,6 +159,8 @@ def chain_max_frequency(n_free: int, k: float, m: float) -> float:
     """Exact ``ω_max`` of a chain of ``n_free`` equal masses ``m`` joined by equal springs
     ``k`` and fixed at one end (longitudinal motion): ``2 √(k/m) sin((2N-1)π / (4N+2))``.
     Tends to ``2 √(k/m)`` as the chain grows."""
+    n_free = _validate.positive_int("n_free", n_free)
+    k, m = _validate.positive_finite("k", k), _validate.positive_finite("m", m)
     return float(2.0 * np.sqrt(k / m) * np.sin((2 * n_free - 1) * np.pi / (4 * n_free + 2)))
 
 
@@ -163,16 +171,19 @@ def newtonian_jacobian(network: SpringNetwork, mass, pinned=None):
 
     For the implicit methods of :func:`~course_lib.integrators.integrate` (``jac=``).
     """
-    def jac(t, y):
+    m = _validate.masses("mass", mass, network.n_particles)
+    pins = _validate.indices("pinned", pinned, network.n_particles)
+
+    def jac(t, y):  # at every Newton iteration: the state is the run's (checked there)
         x, v = y[0], y[1]
         n, dim = x.shape
-        m = np.broadcast_to(_validate.state_array("mass", mass), (n,))
         scale = np.repeat(1.0 / m, dim)
-        if pinned is not None and len(pinned):
-            scale.reshape(n, dim)[np.asarray(pinned, dtype=int)] = 0.0
+        scale.reshape(n, dim)[pins] = 0.0
         S = sp.diags(scale)
         top = sp.hstack([sp.csr_matrix((n * dim, n * dim)), sp.identity(n * dim)])
-        bottom = sp.hstack([S @ jacobian_x(network, x, v), S @ jacobian_v(network, x)])
+        _, _, uu, _ = _geometry(network, x)
+        bottom = sp.hstack([S @ _jacobian_x(network, x, v, False),
+                            S @ assemble(network, -network.c[:, None, None] * uu)])
         return sp.vstack([top, bottom]).tocsr()
 
     return jac

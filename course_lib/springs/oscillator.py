@@ -28,7 +28,10 @@ def damped_oscillator(t, k: float, m: float, c: float = 0.0, x0: float = 1.0, v0
     damped it is ``(x0 + (v0 + ω x0) t) e^{-ω t}`` with ``ω = √(k/m)``, over-damped it
     is a sum of two decaying exponentials.
     """
-    t = np.asarray(t, dtype=float)
+    t = _validate.real_array("t", t)
+    k, m = _validate.positive_finite("k", k), _validate.positive_finite("m", m)
+    c = _validate.nonnegative("c", c)
+    x0, v0 = _validate.finite_real("x0", x0), _validate.finite_real("v0", v0)
     omega = np.sqrt(k / m)
     zeta = c / (2.0 * np.sqrt(k * m))
     if np.isclose(zeta, 1.0, rtol=1e-12, atol=0.0):
