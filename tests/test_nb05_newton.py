@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from notebook_helpers import printed_holds
 from planted import Plant, define, judge
 
 import course_lib as cl
@@ -227,6 +228,56 @@ def test_local_and_global_orders():
     assert err == pytest.approx(true, rel=2e-3)
 
 
+def test_local_errors_of_the_two_eulers_coincide():
+    """Section 6's figure: one step from rest, forward and symplectic Euler are off by
+    ½ dt² a in θ in opposite directions (printed: agree to 0.009 %); at T = 2 s forward
+    Euler's error is about 35 times symplectic Euler's."""
+    dts = 0.01 / 2.0 ** np.arange(5)
+    fe, se = nb05.step_errors("forward_euler", dts), nb05.step_errors("symplectic_euler", dts)
+    same = np.abs(fe[0] / se[0] - 1).max()
+    # the leading terms are equal; the next ones differ by O(dt) relative: 9e-5 at dt = 0.01
+    assert same < 0.01 * 0.01
+    printed_holds(100 * same, ".3f", "0.009", 1e-7)
+    ratio = fe[1] / se[1]
+    assert np.all((ratio > 34) & (ratio < 37))                # "about 35 times"
+    # the one-step errors in θ: exactly -½ dt² a and +½ dt² a to leading order
+    f = nb05.pendulum()
+    a0 = -9.81 * np.sin(1.0)
+    for name, sign in (("forward_euler", -1), ("symplectic_euler", 1)):
+        y1 = cl.integrators.step(name, f, 0.0, np.array([1.0, 0.0]), 1e-3)
+        exact = nb05.reference_run(f, np.array([1.0, 0.0]), 1e-3, 200)
+        assert y1[0] - exact[0] == pytest.approx(sign * 0.5 * 1e-6 * a0, rel=1e-2)
+
+
+def test_symplectic_euler_mean_phase_offset(osc_runs):
+    """Cell 25: the mean over a period runs ω dt/4 above the theory line (printed 0.0250)."""
+    tr = osc_runs["symplectic_euler"]
+    phase = nb05.phase_error(tr.t, tr.y, 1.0)
+    w_tilde = nb05.discrete_frequency(1.0, 0.1)
+    mean = np.convolve(phase, np.ones(63) / 63, mode="valid")
+    offset = mean - (w_tilde - 1.0) * tr.t[31:][:mean.size]
+    assert np.median(offset) == pytest.approx(0.1 / 4, rel=0.01)
+    assert np.ptp(offset) < 0.01 * 0.025 * 20      # parallel: the offset does not drift
+    # 1257 steps: round-off in the phase ~1e-13 rad
+    printed_holds(np.median(offset), ".4f", "0.0250", 1e-10)
+    printed_holds(0.1 / 4, ".4f", "0.0250", 0.0)
+
+
+def test_exercise_5_answer():
+    """The folded answer: 1.4781 s at dt = 0.1 s, 1.4530 s at 0.05 s, exact 1.4278 s;
+    errors 0.050 and 0.025 s."""
+    times = {}
+    for dt in (0.1, 0.05):
+        run = nb05.apple_drop("forward_euler", dt=dt, h0=10.0, t_end=2.0)
+        times[dt] = cl.events.first_crossing(run.t, run.y[:, 0, 0, 1], rule="linear")
+    # closed form: exact heights of a parabola delayed by dt/2 — the crossing is exact arithmetic
+    printed_holds(times[0.1], ".4f", "1.4781", 1e-12)
+    printed_holds(times[0.05], ".4f", "1.4530", 1e-12)
+    printed_holds(T_EXACT, ".4f", "1.4278", 0.0)
+    assert f"{times[0.1] - T_EXACT:.3f}" == "0.050" and f"{times[0.05] - T_EXACT:.3f}" == "0.025"
+    assert (times[0.1] - T_EXACT) / (times[0.05] - T_EXACT) == pytest.approx(2.0, rel=0.01)
+
+
 def test_implicit_last_half_kick_keeps_second_order():
     """Explicit Verlet with drag is first order in v; solving the last half kick is second."""
     b, m, g = 0.5, 1.0, 9.81
@@ -349,8 +400,15 @@ def test_energy_explorer_view_and_player():
     assert fig.axes[0].get_yscale() == "log"
     fig = plot(nb05.energy_bands(0.2))
     assert fig.axes[0].get_yscale() == "linear"
-    dots = {m: plot.dots[m].get_ydata()[0] for m in nb05.BAND_METHODS}
+    dots = {m: plot.dots[m].get_ydata()[0] for m in view05.WIDTH_METHODS}
     assert dots["velocity_verlet"] == pytest.approx(0.01, rel=1e-3)      # ω² dt² / 4
+    # the review's cell 23: at ω dt = 1.9 the bands are wide (0.1 to 20), so the energy panel
+    # goes to a log scale on which Verlet's band shows; the width panel has no Euler growth
+    fig = plot(nb05.energy_bands(1.9))
+    assert fig.axes[0].get_yscale() == "log"
+    low, high = fig.axes[0].get_ylim()
+    assert low < 1 - 0.25 * 1.9**2 and high > 1 / (1 - 0.5 * 1.9)
+    assert set(plot.widths) == {"symplectic_euler", "velocity_verlet"}
     player = view05.energy_player(dts=(0.5, 2.1))
     assert player.labels == ["dt = 0.5 s", "dt = 2.1 s"]
     assert player.captions[0].startswith("stable") and player.captions[1].startswith("unstable")
@@ -438,6 +496,19 @@ PLANTS = [
           "    sol = solve_ivp(lambda s, z: f(s, z.reshape(y.shape)).ravel(), (t, t + dt), "
           "np.ravel(y), rtol=1e-12, atol=1e-12)\n    return sol.y[:, -1].reshape(y.shape)",
           "incorrect", "different times: one step of this method evaluates it at t and t + dt only"),
+    Plant("velocity_verlet_step", "other", "a whole first kick, half last kick",
+          VV_RIGHT.replace("v_half = v + 0.5 * dt * f(t, y)[1]", "v_half = v + dt * f(t, y)[1]"),
+          "incorrect", "the first kick is a HALF kick"),
+    Plant("velocity_verlet_step", "other", "the implicit last kick, solved by iteration",
+          VV_RIGHT.replace(
+              "    return np.stack((x_new, v_half + 0.5 * dt * f(t + dt, np.stack((x_new, v_half)))[1]))",
+              "    v_new = v_half\n    for _ in range(100):\n"
+              "        v_new = v_half + 0.5 * dt * f(t + dt, np.stack((x_new, v_new)))[1]\n"
+              "    return np.stack((x_new, v_new))"),
+          "incorrect", "that is the implicit last kick of section 2"),
+    Plant("velocity_verlet_step", "other", "old velocity in the new force, second try: more said",
+          VV_RIGHT.replace("np.stack((x_new, v_half)))[1]", "np.stack((x_new, v)))[1]"),
+          "incorrect", "the velocity after the first half kick", attempt=1),
     Plant("impact_time", "other", "right", IMPACT_RIGHT, "correct", ""),
     Plant("impact_time", "other", "right, returned as float32",
           IMPACT_RIGHT.replace("    return t[k - 1]", "    return np.float32(t[k - 1]")
@@ -501,6 +572,11 @@ PLANTS = [
     Plant("observed_order", "other", "finest difference taken as the error, second try: no formula",
           _order_variant("    return p, d2"), "incorrect", "which multiple", avoid="2^p - 1",
           attempt=1),
+    Plant("observed_order", "other", "finest difference over 2^p (not 2^p - 1)",
+          _order_variant("    return p, d2 / 2**p"), "incorrect",
+          "is not 2^p times the finest run's error"),
+    Plant("observed_order", "other", "finest difference over 2^p, second try: a question",
+          _order_variant("    return p, d2 / 2**p"), "incorrect", "what is left?", attempt=1),
     Plant("observed_order", "other", "natural logarithm",
           ORDER_RIGHT.replace("np.log2(d1 / d2)", "np.log(d1 / d2)"), "incorrect",
           "base-2 logarithm"),

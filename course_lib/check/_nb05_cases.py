@@ -119,8 +119,12 @@ def order_mistakes(coarse, middle, fine, p, err) -> tuple[dict, dict]:
         escalate("|y_h/2 - y_h/4| is the error of y_h/2 minus that of y_h/4, not the finest "
                  "run's own error", "write both runs with y_h ≈ y + C h^p: which multiple of "
                  "the finest run's error C (h/4)^p is their difference?"): d2,
-        "|y_h - y_h/2| / (2^p - 1) is the error of the MIDDLE run; the finest run's is 2^p "
-        "times smaller": d2 * ratio / (ratio - 1.0),
+        escalate("|y_h - y_h/2| / (2^p - 1) is the error of the MIDDLE run; the finest "
+                 "run's is 2^p times smaller", "use the difference of the two finest runs"):
+            d2 * ratio / (ratio - 1.0),
+        escalate("close, but the difference of the two finest runs is not 2^p times the "
+                 "finest run's error", "write y_h/2 - y_h/4 = C (h/2)^p - C (h/4)^p and "
+                 "factor out C (h/4)^p, the finest run's error: what is left?"): d2 / ratio,
         "measure each difference with the Euclidean norm over all components": m2 / (2**p_max - 1),
     }
     return orders, errors

@@ -109,13 +109,18 @@ def symplectic_euler_step(ck: Checker, step) -> None:
                      "step, positions and velocities"):
                 np.stack((x + dt * (v + dt * f(t, np.stack((x, 0 * v)))[1]),
                           v + dt * f(t, np.stack((x, 0 * v)))[1])),
-            "that is the other symplectic Euler (x first, then v from the new x); here the "
-            "velocity comes first": np.stack((x_first, v + dt * f(t, np.stack((x_first, v)))[1])),
-            "the acceleration belongs to the start of the step: f(t, y), not f(t + dt, y)":
-                np.stack((x + dt * (v + dt * a_late), v + dt * a_late)),
-            "a full step, not half of one: v_new = v + dt a": np.stack(
-                (x + dt * (v + 0.5 * dt * a), v + 0.5 * dt * a)),
-            "no dt²/2 term in symplectic Euler (that is Verlet's drift): x_new = x + dt v_new":
+            escalate("that is the other symplectic Euler (x first, then v from the new x); "
+                     "here the velocity comes first", "kick v with the acceleration at the "
+                     "start of the step, then move x with the new v"):
+                np.stack((x_first, v + dt * f(t, np.stack((x_first, v)))[1])),
+            escalate("the acceleration belongs to the start of the step: f(t, y), not "
+                     "f(t + dt, y)", "the force is evaluated once, at the step's start time t "
+                     "and the state y"): np.stack((x + dt * (v + dt * a_late), v + dt * a_late)),
+            escalate("a full step, not half of one: the velocity changes by dt times the "
+                     "acceleration", "symplectic Euler has no half kicks (that is Verlet)"):
+                np.stack((x + dt * (v + 0.5 * dt * a), v + 0.5 * dt * a)),
+            escalate("no dt²/2 term in symplectic Euler (that is Verlet's drift)",
+                     "move x by dt times the new velocity, and nothing else"):
                 np.stack((x + dt * (v + dt * a) + 0.5 * dt**2 * a, v + dt * a)),
         }
 
@@ -138,6 +143,11 @@ def velocity_verlet_step(ck: Checker, step) -> None:
         a = f(t, y)[1]
         v_half = v + 0.5 * dt * a
         x_new = x + dt * v_half
+        v_full = v + dt * a                               # a whole first kick
+        x_far = x + dt * v_full
+        v_implicit = v_half.copy()                        # the implicit kick, solved
+        for _ in range(200):
+            v_implicit = v_half + 0.5 * dt * f(t + dt, np.stack((x_new, v_implicit)))[1]
         return {
             escalate("both half kicks used the same acceleration: the second one needs the "
                      "acceleration at the NEW position", "call f again once the drift has "
@@ -147,12 +157,25 @@ def velocity_verlet_step(ck: Checker, step) -> None:
                      "kick the velocity by half a step, drift a full step with that velocity, "
                      "then kick again by half a step"):
                 np.stack((x + dt * (v + dt * a), v + dt * a)),
-            "the new acceleration needs the new state (x_new, v_half): you passed the OLD "
-            "velocity v, which matters as soon as the force depends on velocity (drag)":
+            escalate("the first kick is a HALF kick: the drift uses the velocity half a step "
+                     "in", "kick by dt/2 with the acceleration at the start, drift a full dt, "
+                     "kick by dt/2 again"):
+                np.stack((x_far, v_full + 0.5 * dt * f(t + dt, np.stack((x_far, v_full)))[1])),
+            escalate("that is the implicit last kick of section 2 (the force at the velocity "
+                     "being computed, solved for it): the exercise asks for the explicit form",
+                     "evaluate the last kick's force once, at the new position and the "
+                     "half-step velocity"): np.stack((x_new, v_implicit)),
+            escalate("the new acceleration needs the new state (x_new, v_half): you passed the "
+                     "OLD velocity v, which matters as soon as the force depends on velocity "
+                     "(drag)", "the state you hand to f at the end of the step is the new "
+                     "position with the velocity after the first half kick"):
                 np.stack((x_new, v_half + 0.5 * dt * f(t + dt, np.stack((x_new, v)))[1])),
-            "the new acceleration is at the END of the step: f(t + dt, ...), not f(t, ...)":
+            escalate("the new acceleration is at the END of the step: f(t + dt, ...), not "
+                     "f(t, ...)", "a force that depends on time is evaluated at the time of "
+                     "the state you hand it"):
                 np.stack((x_new, v_half + 0.5 * dt * f(t, np.stack((x_new, v_half)))[1])),
-            "the second kick is a HALF kick too: v_new = v_half + dt/2 a_new":
+            escalate("the second kick is a HALF kick too", "kick by dt/2 at the end of the "
+                     "step, as at its start"):
                 np.stack((x_new, v_half + dt * f(t + dt, np.stack((x_new, v_half)))[1])),
         }
 

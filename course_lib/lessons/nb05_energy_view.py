@@ -2,9 +2,10 @@
 
 - :class:`EnergyBandPlot` draws an :class:`~course_lib.lessons.nb05_newton.EnergyBands`:
   on the left each method's ``E/E0`` over the run beside its theory band (a log scale once
-  the run grows without bound); on the right the width of the bands against the step,
-  theory as lines and this step's measured widths as dots. It redraws in place, so an
-  update stays well under 100 ms.
+  the run grows without bound, or the bands are wide); on the right the width of the
+  symplectic methods' bands against the step, theory as lines and this step's measured
+  widths as dots (forward Euler has no band: its growth is in the title). It redraws in
+  place, so an update stays well under 100 ms.
 - :func:`energy_explorer`: the widget (a log slider for ``dt``) over
   :func:`~course_lib.lessons.nb05_newton.energy_bands`.
 - :func:`energy_player`: the same pictures for a list of steps, as a kernel-free player.
@@ -31,14 +32,17 @@ PLAYER_DTS = (0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 1.5, 1.9, 2.1)
 DT_RANGE = (0.01, 4.0)
 
 
+#: The methods whose band widths the right panel draws (forward Euler has no band: its
+#: growth is in the title).
+WIDTH_METHODS = ("symplectic_euler", "velocity_verlet")
+
+
 def _band_widths(omega: float, dts: np.ndarray) -> dict:
-    """Theory: width of each method's band of ``E/E0`` (forward Euler: growth after 20
-    periods) against the step."""
+    """Theory: width of the symplectic methods' bands of ``E/E0`` against the step."""
     h = omega * dts
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         return {"symplectic_euler": np.where(h < 2, h / (1.0 - 0.25 * h * h), np.nan),
-                "velocity_verlet": np.where(h < 2, 0.25 * h * h, np.nan),
-                "forward_euler": (1.0 + h * h) ** np.round(40 * np.pi / h) - 1.0}
+                "velocity_verlet": np.where(h < 2, 0.25 * h * h, np.nan)}
 
 
 class EnergyBandPlot:
@@ -60,15 +64,16 @@ class EnergyBandPlot:
         dts = np.geomspace(*DT_RANGE, 200)
         self.ax_w.axvspan(2.0, DT_RANGE[1], color="0.9", zorder=0)
         self.ax_w.text(2.1, 2e-4, "ω dt\n≥ 2:\nun-\nstable", fontsize=8, color="0.35")
-        for m in BAND_METHODS:
+        for m in WIDTH_METHODS:
             self.dots[m], = self.ax_w.plot([], [], "o", color=METHOD_COLORS[m], ms=7)
         self.ax_w.plot([], [], "o", color="0.3", label="measured at this dt")
+        self.ax_w.plot([], [], color="0.3", label="theory")
         self.widths = {m: self.ax_w.plot(dts, np.full(dts.size, np.nan), color=METHOD_COLORS[m],
-                                         lw=1.5)[0] for m in BAND_METHODS}
+                                         lw=1.5)[0] for m in WIDTH_METHODS}
         self.now = self.ax_w.axvline(0.1, color="0.4", lw=0.8)
-        self.ax_w.set(xscale="log", yscale="log", xlim=DT_RANGE, ylim=(1e-5, 1e3),
+        self.ax_w.set(xscale="log", yscale="log", xlim=DT_RANGE, ylim=(1e-5, 1e2),
                       xlabel="dt (s)", ylabel="band width of $E/E_0$",
-                      title="lines: theory (Euler: its growth)")
+                      title="symplectic Euler ∝ dt, Verlet ∝ dt² (for small ω dt)")
         self.ax_w.title.set_fontsize(9)
         # few ticks: drawing tick labels dominates a redraw
         self.ax_w.xaxis.set_major_locator(LogLocator(numticks=4))
@@ -76,13 +81,13 @@ class EnergyBandPlot:
         for axis in (self.ax_w.xaxis, self.ax_w.yaxis):
             axis.set_minor_locator(NullLocator())
         self.ax_e.xaxis.set_major_locator(MaxNLocator(5))
-        self.ax_w.legend(fontsize=8, loc="lower right")
+        self.ax_w.legend(fontsize=8, loc="upper left")
         self._omega = None
         self.title = self.fig.text(0.5, 0.975, "", ha="center", va="top", fontsize=10)
 
     def __call__(self, res: EnergyBands):
         if res.omega != self._omega:
-            dts = self.widths["forward_euler"].get_xdata()
+            dts = self.widths["symplectic_euler"].get_xdata()
             for m, w in _band_widths(res.omega, dts).items():
                 self.widths[m].set_ydata(w)
             self._omega = res.omega
@@ -94,19 +99,25 @@ class EnergyBandPlot:
             show = res.stable and m != "forward_euler"
             self.lo[m].set_data([0, periods[-1]], [lo, lo] if show else [np.nan, np.nan])
             self.hi[m].set_data([0, periods[-1]], [hi, hi] if show else [np.nan, np.nan])
-            low, high = res.spread[m]
-            grown = m == "forward_euler" and np.isfinite(high)
-            width = high - 1.0 if grown else high - low
-            keep = res.stable or m == "forward_euler"
-            self.dots[m].set_data([res.dt], [width if keep and np.isfinite(width) else np.nan])
+            if m in self.dots:
+                low, high = res.spread[m]
+                width = high - low if res.stable and np.isfinite(high - low) else np.nan
+                self.dots[m].set_data([res.dt], [width])
         self.now.set_xdata([res.dt, res.dt])
         self.ax_e.set_xlim(0.0, periods[-1])
-        if res.stable:
-            lo, hi = res.band["symplectic_euler"]
+        lo = min(res.band[m][0] for m in WIDTH_METHODS)
+        hi = max(res.band[m][1] for m in WIDTH_METHODS)
+        if res.stable and hi < 4 * lo:     # narrow bands: a linear scale shows them
             pad = 0.25 * (hi - lo)
             self.ax_e.set_yscale("linear")
             self.ax_e.yaxis.set_major_locator(MaxNLocator(5))
             self.ax_e.set_ylim(lo - pad, hi + pad)
+            self.lines["forward_euler"].set_label("forward Euler (leaves the panel)")
+        elif res.stable:                   # wide bands (ω dt near 2): a log scale shows both
+            self.ax_e.set_yscale("log")
+            self.ax_e.yaxis.set_major_locator(LogLocator(numticks=5))
+            self.ax_e.yaxis.set_minor_locator(NullLocator())
+            self.ax_e.set_ylim(0.6 * lo, 1.6 * hi)
             self.lines["forward_euler"].set_label("forward Euler (leaves the panel)")
         else:
             self.ax_e.set_yscale("log")
