@@ -110,7 +110,11 @@ def nbody_mistakes(x, m, G, eps, expected) -> dict:
 
     with np.errstate(divide="ignore", invalid="ignore"):
         return {
-            "sign error: gravity pulls body i TOWARDS j, along x_j - x_i": -expected,
+            escalate("every force points the wrong way: a sign error (gravity pulls body i "
+                     "TOWARDS j, along x_j - x_i), or a sum of the pair matrix over the wrong "
+                     "axis, which flips every force the same way",
+                     "with r[i, j] = x_i - x_j the force on i sums over j, the second index "
+                     "(axis=1), and carries a minus sign"): -expected,
             "that is the acceleration; the force is m_i times it": expected / m[:, None],
             "each pair's force is G m_i m_j ...: you left out m_j":
                 pairs((d2 + eps**2) ** 1.5, m[:, None] * np.ones_like(d2)),

@@ -18,7 +18,7 @@ from ..lessons import nb06_forces as lesson
 from . import Checker, exercise
 from ._answers import call_analysis, close, one_number
 from ._nb06_cases import bounce_mistakes, ground_states, nbody_cases, nbody_mistakes
-from .tolerance import blown_up, call_whole_array, escalate, precision_rtol
+from .tolerance import blown_up, call_whole_array, close_worst, escalate, precision_rtol
 
 
 def _drag_cases():
@@ -57,21 +57,29 @@ def drag_force(ck: Checker, drag) -> None:
             continue
         expected = -b * (v - wind)
         speed = np.linalg.norm(v - wind, axis=1, keepdims=True)
-        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12, mistakes={
-            "sign error: drag opposes the motion relative to the air": b * (v - wind),
-            "you forgot the wind: drag acts on the velocity relative to the air": -b * v,
-            "the relative velocity is v - wind, not v + wind": -b * (v + wind),
-            "drag acts on every component of v - wind, a vector, not on its length":
-                -b * speed * np.ones(v.shape[1]),
-            "that is quadratic drag, -b |v - w| (v - w): the exercise asks for the linear law":
-                -b * speed * (v - wind),
+        # a failure shows the worst particle, not the whole (300, 3) array
+        close_worst(ck, got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12,
+                    unit="N", label="particle", mistakes={
+            escalate("sign error: drag opposes the motion relative to the air",
+                     "the force points along -(v - wind)"): b * (v - wind),
+            escalate("you forgot the wind: drag acts on the velocity relative to the air",
+                     "subtract the wind from every particle's velocity first"): -b * v,
+            escalate("the relative velocity is v - wind, not v + wind",
+                     "the air moves with the wind: relative to it, a particle moves at v - wind"):
+                -b * (v + wind),
+            escalate("drag acts on every component of v - wind, a vector, not on its length",
+                     "keep the (N, d) shape: no norm"): -b * speed * np.ones(v.shape[1]),
+            escalate("that is quadratic drag, -b |v - w| (v - w): the exercise asks for the "
+                     "linear law", "drop the speed factor |v - w|"): -b * speed * (v - wind),
         })
 
 
 #: Lines of Python a formula needs at most (a simulation runs thousands).
 FORMULA_LINES = 200
-SIMULATED = ("the exercise asks for the speed from the force balance, a formula: your "
-             "function steps a simulation instead")
+SIMULATED = escalate(
+    "the exercise asks for the speed from the force balance, a formula: your function runs a "
+    "long loop instead (a simulation of the fall, or an iteration such as v = m g / (b + c v))",
+    "the balance b v + c v² = m g is a quadratic in v: solve it once, no loop")
 
 
 @exercise(allow=(), forbid=("scipy.integrate",))
@@ -119,7 +127,7 @@ def terminal_speed(ck: Checker, speed) -> None:
             mistakes[escalate("adding the two terminal speeds overshoots: both drags act at "
                               "once, at one speed", "write one balance, b v + c v² = m g, and "
                               "solve it for v")] = m * g / b + np.sqrt(m * g / c)
-        ck.close(value, exact, what, rtol=precision_rtol(got, 1e-9), mistakes=mistakes)
+        close(ck, value, exact, what, rtol=precision_rtol(got, 1e-9), mistakes=mistakes)
 
 
 def _falling_balls(seed: int, n: int, dt: float, g: float, e: float):
@@ -150,7 +158,13 @@ def _located_mistakes(h, v, dt, g, e) -> dict:
 
     with np.errstate(divide="ignore", invalid="ignore"):
         s_lin = np.where(hit, np.minimum(h / np.abs(v), dt), dt)
+        s_chord = np.where(hit, dt * h / (h - free_h), dt)     # interpolated start to end
         return {
+            escalate("your impact time interpolates linearly between the start of the step and "
+                     "the end of the free flight: the ball accelerates, so the path is a parabola "
+                     "and the chord crosses the ground at the wrong time", "the impact is the "
+                     "positive root s of h + v s - g s²/2 = 0, the step's own quadratic"):
+                after(s_chord, -e * (v - g * s_chord)),
             escalate("you bounced at the end of the step, where the ball is already below the "
                      "ground: locate the impact inside the step",
                      "find the time s of the impact within the step, bounce there, and fly "
@@ -209,7 +223,8 @@ def located_bounce(ck: Checker, func) -> None:
             continue
         # one row per ball, (h, v): a wrong answer is summarised by its worst ball
         mistakes = {hint: np.stack(wrong).T for hint, wrong in _located_mistakes(h, v, dt, g, e).items()}
-        close(ck, got.T, expected.T, what, rtol=1e-9, atol=1e-12, mistakes=mistakes)
+        close_worst(ck, got.T, expected.T, what, rtol=1e-9, atol=1e-12, mistakes=mistakes,
+                    label="ball (h, v)")
     # The whole point: with the impact located, every bounce keeps e² of the height.
     what = "dropped from 1 m with dt = 0.01 s: each apex e² = 0.64 of the one before"
     h, v, heights = np.array([1.0]), np.array([0.0]), [1.0]
@@ -264,9 +279,9 @@ def nbody_force(ck: Checker, func) -> None:
         got = np.asarray(got)
         if blown_up(ck, got, what, run=False):
             continue
-        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9),
-                 atol=1e-12 * float(np.abs(expected).max()),
-                 mistakes=nbody_mistakes(x, m, G, eps, expected))
+        close_worst(ck, got, expected, what, rtol=precision_rtol(got, 1e-9),
+                    atol=1e-12 * float(np.abs(expected).max()), unit="N", label="body",
+                    mistakes=nbody_mistakes(x, m, G, eps, expected))
         if got.shape == expected.shape:
             ck.close(got.sum(axis=0), np.zeros(x.shape[1]), f"{what}: the forces sum to zero",
                      atol=1e-9 * float(np.abs(expected).sum()) + precision_rtol(got, 0.0),
@@ -289,5 +304,11 @@ def bounce(ck: Checker, func) -> None:
                 "some particles fall straight down (no sideways speed): your friction divides "
                 "by |v_t| = 0 there; leave a particle without sideways speed without it")):
             continue
-        ck.close(got, expected, what, rtol=precision_rtol(got, 1e-9), atol=1e-12,
-                 mistakes=bounce_mistakes(y, e, mu, expected))
+        # a row per particle, its (position, velocity): the worst particle is shown
+        def per_particle(a, shape=y.shape):
+            return np.asarray(a, dtype=float).transpose(1, 0, 2) if np.shape(a) == shape else a
+
+        close_worst(ck, per_particle(got), per_particle(expected), what,
+                    rtol=precision_rtol(got, 1e-9), atol=1e-12, label="particle (x, v)",
+                    mistakes={h: per_particle(w)
+                              for h, w in bounce_mistakes(y, e, mu, expected).items()})

@@ -160,9 +160,12 @@ def close_worst(ck: Checker, got, expected, what: str, *, rtol: float, atol: flo
     gap = np.where(np.isnan(gap), np.inf, gap).max(axis=1)
     r = int(np.argmax(gap))
 
-    def show(x):
-        return np.array2string(np.asarray(x) + 0.0, precision=6, suppress_small=True,
-                               separator=", ")
+    def show(x):   # one line, also for a row that is itself 2-D (a particle's x and v)
+        x = np.asarray(x) + 0.0
+        if x.ndim > 1:
+            return "; ".join(show(part) for part in x)
+        return np.array2string(x, precision=6, suppress_small=True, separator=", ",
+                               max_line_width=10**6)
 
     name = label(r) if callable(label) else f"{label} {r}"
     return ck.expect(False, what, f"{int(bad.sum())} of {bad.size} values differ; the worst, "
