@@ -89,7 +89,8 @@ class SpringSet:
     uniform : bool
         In every used slot the two ends weigh the same, or one of them is pinned.
     held : ndarray of int
-        The pinned particles (``w = 0``) that are ends of used slots.
+        The pinned particles (``w = 0``) that are ends of used slots (``held_at``: the same
+        as a slice where they are evenly spaced).
     """
 
     def __init__(self, spring: np.ndarray, network, inverse_mass: np.ndarray, band=None,
@@ -114,6 +115,10 @@ class SpringSet:
                                    | (self.wj == 0)))
         self.held = np.unique(np.r_[lo[self.used & (self.wi == 0)],
                                     hi[self.used & (self.wj == 0)]]).astype(np.intp)
+        step = np.diff(self.held)
+        # the same as a slice where it can be one (the usual few pins): a faster copy
+        self.held_at = slice(int(self.held[0]), int(self.held[-1]) + 1, int(step[0]) if step.size
+                             else 1) if self.held.size and np.all(step == step[:1]) else self.held
         self.shape = spring.shape
         self._views: dict = {}
 

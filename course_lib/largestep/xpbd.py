@@ -110,6 +110,9 @@ class XPBD(SpringSolver):
         self.tethers = tethers
         self.inverse_mass = np.where(self._free, 1.0 / self.mass, 0.0)
         self.springs = ColouredSprings(network, self.inverse_mass)
+        self._all_fused = all(self._fused(q) for q in self.springs.sets)
+        for q in self.springs.sets:
+            q.lam = None                                        # λ = 0 (see _begin)
         self._h = None
         self._buffers: dict = {}
         self.info: SweepInfo | None = None
@@ -176,7 +179,7 @@ class XPBD(SpringSolver):
                 # each end a 1-D strided view (an operation over the 2-D view would run
                 # its inner loop over the short axis).
                 a, b, g = q.coefficients
-                per_slot = (a, b, np.stack((np.ones(q.shape), g)), q.wi, q.wj)
+                per_slot = (a, b, g, q.wi, q.wj)
                 parts = [(slice(None),)] if not q.band[3] or q.band[0] == 1 else \
                     [(r,) for r in range(q.band[0])]
                 for part in parts:
@@ -189,8 +192,7 @@ class XPBD(SpringSolver):
                     rows.append((q, pair, shared[1][:2 * m].reshape(2, *shape),
                                  shared[2][:dim * m].reshape(dim, *shape),
                                  lo[at], hi[at], starts,
-                                 tuple(c[(slice(None), *part)] if c.ndim > q.spring.ndim
-                                       else c[part] for c in per_slot)))
+                                 tuple(c[part] for c in per_slot)))
             self._buffers[key] = rows
         return self._buffers[key]
 
@@ -199,6 +201,8 @@ class XPBD(SpringSolver):
         starts (``start`` is the position buffer; a fused set takes each spring's vector
         ``d₀`` there as it goes, the others store it now)."""
         self._start = start
+        if self._all_fused:                     # one sweep, band sets: nothing to reset
+            return
         for q in self.springs.sets:
             q.lam = np.zeros(q.shape) if self.iterations > 1 else None   # λ = 0: no α̃ λ
             if q.damped and not self._fused(q):
@@ -239,8 +243,9 @@ class XPBD(SpringSolver):
                     np.subtract(starts[0], starts[1], out=pair[1])
                 else:                                           # both at once
                     np.subtract(starts[0], starts[1], out=starts[2])
-                length, t = np.einsum("k...,tk...,t...->t...", d, pair, g, out=scalars)
-            else:                                               # ℓ², g d·d₀ (g = (1, g))
+                length, t = np.einsum("k...,tk...->t...", d, pair, out=scalars)   # ℓ², d·d₀
+                t *= g
+            else:
                 np.subtract(lo, hi, out=d)
                 length, t = np.einsum("k...,k...->...", d, d, out=scalars[0]), scalars[1]
             length += TINY
@@ -256,7 +261,7 @@ class XPBD(SpringSolver):
                 lo -= np.multiply(d, f, out=work)
                 hi += work
                 if q.held.size:                         # pins back where they were
-                    buffer[:, q.held] = start[:, q.held]
+                    buffer[:, q.held_at] = start[:, q.held_at]
             else:
                 lo -= np.multiply(d, f * wi, out=work)
                 hi += np.multiply(d, f * wj, out=work)
@@ -285,27 +290,25 @@ class XPBD(SpringSolver):
         self._constants(h)
         n, dim = x.shape
         P, X = self._stacked(dim)
-        X[:, :n] = x.T
-        V = np.where(self._free, v.T, 0.0)
+        Pn, Xn = P[:, :n], X[:, :n]
+        Xn[...] = x.T
+        D = np.where(self._free, v.T, 0.0) * h                  # h v: how far p moves from x
         inv_m = self.inverse_mass
         if self.external is None:                               # h² F/m, constant
             push = (h * h) * self.external_force(t, x, v).T * inv_m
         for k in range(self.substeps):
             if self.external is not None:
                 push = (h * h) * inv_m * self.external_force(
-                    t + k * h, X[:, :n].T.copy(), V.T.copy()).T
-            Pn = P[:, :n]
-            np.multiply(V, h, out=Pn)                           # p = x + h v + h² F/m
-            Pn += X[:, :n]
+                    t + k * h, Xn.T.copy(), (D / h).T.copy()).T
+            np.add(Xn, D, out=Pn)                               # p = x + h v + h² F/m
             Pn += push
             self._begin(X)
             for _ in range(self.iterations):
                 self._sweep(P)
                 if self.tethers is not None:
                     self.tethers.project(Pn)
-            np.subtract(Pn, X[:, :n], out=V)
-            V *= 1.0 / h
-            X[:, :n] = Pn
+            np.subtract(Pn, Xn, out=D)                          # v = (p - x)/h, kept as h v
+            Xn[...] = Pn
         self.info = SweepInfo(self.substeps, self.substeps * self.iterations)
-        return X[:, :n].T.copy(), V.T.copy()
+        return Xn.T.copy(), (D / h).T.copy()
 
