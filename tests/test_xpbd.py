@@ -123,6 +123,19 @@ def test_xpbd_sweep_is_the_loop_with_delta_lambda():
     assert np.allclose(buffer[:, :net.n_particles].T, want, rtol=0, atol=1e-14)
 
 
+@pytest.mark.parametrize("n, rows", [(12, 12), (32, 14), (64, 14)])
+def test_only_long_bands_of_small_offset_are_split_into_rows(n, rows):
+    # A band of offset 2 whose blocks run along the long axis is swept as two strided rows
+    # once it is long (32² and up); a short one stays one operation per set (a 12² sheet,
+    # whose sweep costs the overhead of each operation). Never one row per residue of a
+    # larger offset (that made a sweep of three 12² sheets side by side 80 rows).
+    c = C.sheet(n=n, k_struct=300.0, damping_ratio=0.1)
+    solver = XPBD(c.network, c.mass, pinned=c.pinned, gravity=G)
+    solver.step(c.x0, np.zeros_like(c.x0), 1 / 600)
+    P, X = solver._stacked(3)
+    assert len(solver.springs.sets) == 12 and len(solver._bound(P, X)) == rows
+
+
 @pytest.mark.parametrize("equal_masses", [True, False])
 def test_xpbd_steps_are_the_loop_over_springs(equal_masses):
     # step() runs its fastest path on a cloth of equal masses (the free ends' 1/m folded

@@ -175,13 +175,14 @@ class XPBD(SpringSolver):
                         self._buffers[own] = (np.zeros((2, dim, *q.shape)), np.zeros((2, *q.shape)))
                     rows.append((q, *self._buffers[own], work, lo, hi, None, None))
                     continue
-                # A band of offset o > 1 along the long axis: one row per residue r < o,
-                # each end a 1-D strided view (an operation over the 2-D view would run
-                # its inner loop over the short axis).
+                # A long band of small offset 1 < o <= 4: one row per residue r < o, each
+                # end a 1-D strided view (over the 2-D view an operation would run its
+                # inner loop over the short axis of length o).
                 a, b, g = q.coefficients
                 per_slot = (a, b, g, q.wi, q.wj)
-                parts = [(slice(None),)] if not q.band[3] or q.band[0] == 1 else \
-                    [(r,) for r in range(q.band[0])]
+                o, _, blocks, transposed = q.band
+                parts = [(r,) for r in range(o)] if transposed and 1 < o <= 4 and blocks >= 128 \
+                    else [(slice(None),)]
                 for part in parts:
                     shape = q.spring[part].shape
                     m = int(np.prod(shape))
