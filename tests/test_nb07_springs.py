@@ -331,8 +331,10 @@ def test_damped_stable_sets_table_and_simulations():
     half, y_half, _ = S.anchored_spring(K, M, 0.5 * c_crit, 1.0, 1e-3)
     runs = [cl.integrate(system, y, (0.0, 3000 * dt), dt, method, blowup_bound=1.5)
             for method, system, y, dt in [
-                ("symplectic_euler", crit, y_crit, 0.99 * lim), ("symplectic_euler", crit, y_crit, 1.01 * lim),
-                ("velocity_verlet", half, y_half, 1.2 * unit), ("velocity_verlet", half, y_half, 1.5 * unit)]]
+                ("symplectic_euler", crit, y_crit, 0.99 * lim),
+                ("symplectic_euler", crit, y_crit, 1.01 * lim),
+                ("velocity_verlet", half, y_half, 1.2 * unit),
+                ("velocity_verlet", half, y_half, 1.5 * unit)]]
     assert runs[0].stable and runs[3].stable
     assert runs[1].message == "unstable at step 246, t = 65.0895 (|y| > 1.5)"
     assert runs[2].message == "unstable at step 27, t = 20.4916 (|y| > 1.5)"
