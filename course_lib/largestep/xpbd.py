@@ -32,7 +32,7 @@ with PBD's rule.)
 On a cloth of equal masses a sweep is a dozen whole-array operations per set: the free
 ends' ``1/m`` is folded into the coefficients (a pinned end is moved like a free one and
 put back), the positions at the start of the small step sit below the current ones in one
-array (one subtraction gives every spring's ``d`` and ``d₀``), and a band of offset 2 is
+array (one subtraction gives every spring's ``d`` and ``d₀``), and a long band of offset 2 is
 swept as two strided rows.
 
 Core module: imports NumPy and the package's :mod:`.base`, :mod:`.constraints` and
