@@ -4,6 +4,8 @@ check measures an answer's cost.
 - :func:`grid_cases`: point sets that break the usual shortcuts of a grid (pairs at exactly
   the radius in diagonal cells, coincident points, clusters) and two of the same density,
   2000 and 8000 points, on which the cost is measured;
+- :func:`scatter` and :func:`roundoff_bound`: the separation rule's per-boid sums and the
+  round-off they may carry; :func:`ring_mistakes`: the usual wrong radii of Exercise 2;
 - :func:`measured`: runs an answer and returns its result, the peak memory it held and the
   bytes it allocated in all (tracemalloc, sampled at every line of the answer's own code),
   stopping it after :func:`line_limit` lines.
@@ -88,3 +90,50 @@ def grid_cases(seed: int):
         rng.uniform(-10.0, 15.0, (100, 2)))), 0.7
     yield "2000 points in a 50 m square, radius 1 m", rng.uniform(0.0, 50.0, (2000, 2)), 1.0
     yield "8000 points in a 100 m square, radius 1 m", rng.uniform(0.0, 100.0, (8000, 2)), 1.0
+
+
+# --- the separation rule and the ring ------------------------------------------------------
+
+
+def scatter(index, w, n):
+    """Sum the rows of ``w`` onto ``n`` boids by ``index`` (a pair's term onto its boid)."""
+    return np.stack([np.bincount(index, w[:, k], minlength=n) for k in range(w.shape[1])], axis=1)
+
+
+def roundoff_bound(i, d, n: int, eps: float) -> np.ndarray:
+    """A bound (1/m, shape ``(n, 2)``) on the round-off of ``S_i = −Σ d/|d|²``: each term is
+    rounded by a few units ``eps`` of its size (|d|² is a sum of two squares, then a
+    division), and a sum of ``m`` terms by ``(m − 1) eps`` of the sum of their sizes; four
+    times ``(m + 4) eps Σ|term|`` covers any order of summation."""
+    size = scatter(i, np.abs(d) / np.einsum("pk,pk->p", d, d)[:, None], n)
+    m = np.bincount(i, minlength=n)[:, None]
+    return 4.0 * (m + 4) * eps * size
+
+
+def ring_mistakes(n: int, ws: float, wc: float, r: float) -> list:
+    """The usual wrong radii for the ring of ``n`` boids whose right radius is ``r``, each
+    with its hint (nudge, then more)."""
+    pair = np.sqrt(ws / wc) / 2
+    chords = np.sum(1.0 / (2.0 * np.sin(np.pi * np.arange(1, n) / n)))   # Σ r/|d| over neighbours
+    return [
+        (("that is the pair's radius for every n: with n boids each one feels n - 1 pushes, and "
+          "cohesion pulls towards the centre of the other n - 1",
+          "add up the radial parts of the n - 1 pushes and set them against the pull of cohesion "
+          "towards the centre of the other n - 1 boids"), pair),
+        (("that is a distance between two boids: the exercise asks for the radius of their circle",
+          "return r, the circle's radius; neighbours are 2 r sin(π/n) apart"), 2 * pair),
+        (("that is the distance to the nearest neighbour: return the circle's radius",
+          "return r, the circle's radius; neighbours are 2 r sin(π/n) apart"),
+         2 * r * np.sin(np.pi / n)),
+        (("cohesion points to the centre of the *other* n - 1 boids, not of all n: how far is that "
+          "from the boid?", "leave the boid itself out of the mean: the centre of the other n - 1 "
+          "lies n/(n - 1) r from it, so cohesion pulls with w_c r n/(n - 1)"),
+         np.sqrt(ws * (n - 1) / (2 * wc))),
+        (("only the radial part of each push survives: the sideways parts cancel in pairs, so "
+          "adding the pushes' full sizes 1/|d| overcounts",
+          "a chord of length |d| points |d|/(2r) of its length towards the centre, so the radial "
+          "part of d/|d|² is 1/(2r), the same for every neighbour"),
+         np.sqrt(ws * (n - 1) * chords / (n * wc)) if n > 2 else None),
+        (("check the units: w_s is in m²/s² and w_c in 1/s², and the radius in m",
+          "you returned r²: take the square root"), r * r),
+    ]

@@ -1,15 +1,19 @@
-"""Checks for notebook 10, flocking: the separation rule, which weight breaks the flock,
-and a neighbour search with a uniform grid.
+"""Checks for notebook 10, flocking: the separation rule, where separation and cohesion
+balance on a ring of boids, and a neighbour search with a uniform grid.
 
 No answer may call the library (``allow=()``); the neighbour search may not call
-``scipy.spatial`` either (the exercise is the grid, not the k-d tree). Its check compares
-with the all-pairs reference :func:`course_lib.neighbors.all_pairs` on data that breaks the
-usual shortcuts (pairs in diagonal cells, at exactly the radius, coincident points, points
-far apart in one wide cell) and measures the memory an answer holds at once, which tells
-a grid from an N × N table; on four times the points at the same density it measures the
-memory allocated in all (bytes, the same on every machine), which grows fourfold for a grid
-and sixteenfold for all pairs tested a row at a time. Case data and the measurement:
-:mod:`course_lib.check._nb10_cases`.
+``scipy.spatial`` either (the exercise is the grid, not the k-d tree). The separation rule
+is judged per boid against a round-off bound derived from the answer's own precision (a
+sum of m terms, each rounded by a few units of round-off), so the verdict, the count of
+boids wrong and the message use one tolerance. The ring's radius is tried for several boid
+counts and weights (an answer that ignores its arguments fails). The grid search is
+compared with the all-pairs reference :func:`course_lib.neighbors.all_pairs` on data that
+breaks the usual shortcuts (pairs in diagonal cells, at exactly the radius, coincident
+points, points far apart in one wide cell); the memory it holds at once tells a grid from
+an N × N table, and on four times the points at the same density the memory it allocates in
+all (bytes, the same on every machine) grows about fourfold for a grid, eightfold for a
+sweep along one axis and sixteenfold for all pairs tested a row at a time. Case data and the
+measurement: :mod:`course_lib.check._nb10_cases`.
 """
 
 from __future__ import annotations
@@ -19,8 +23,11 @@ import inspect
 import numpy as np
 
 from .. import boids, neighbors
+from ..lessons import nb10_flocking as _lesson
 from . import Checker, exercise
 from . import _nb10_cases as _cases
+from ._answers import one_number, rtol_for
+from ._nb10_cases import roundoff_bound
 from .policy import name_chains
 
 _SEED = 1010
@@ -36,24 +43,33 @@ def _case(n, box, rng, isolated=False):
     return x, v, rules, i, j, d
 
 
-def _scatter(index, w, n):
-    return np.stack([np.bincount(index, w[:, k], minlength=n) for k in range(w.shape[1])], axis=1)
-
-
-def _close_rows(ck: Checker, got, expected, what, mistakes) -> None:
-    """Like ``Checker.close`` for an (n, 2) answer, but report only the worst boid."""
+def _close_rows(ck: Checker, got, expected, bound, what, mistakes) -> None:
+    """Judge an (n, 2) answer boid by boid against ``bound`` (the round-off it may carry):
+    the verdict, the count of boids wrong and the worst boid shown all use that bound."""
     if got.shape != expected.shape:
         ck.expect(False, what, f"expected shape {expected.shape}, got {got.shape}")
         return
-    if np.allclose(got, expected, rtol=1e-10, atol=1e-12):
+    off = np.abs(got - expected)
+    beyond = ~np.all(off <= bound, axis=1)
+    if not beyond.any():
         ck.expect(True, what)
         return
     hint = next((h for h, wrong in mistakes.items()
-                 if np.allclose(got, wrong, rtol=1e-10, atol=1e-12)), None)
-    k = int(np.argmax(np.abs(got - expected).max(axis=1)))
-    ck.expect(False, what, f"boid {k}: expected {expected[k].round(6)}, got {got[k].round(6)} "
-              f"({int(np.sum(~np.isclose(got, expected).all(axis=1)))} of {len(got)} boids wrong)",
-              hint=hint)
+                 if np.allclose(got, wrong, rtol=1e-9, atol=1e-12)), None)
+    excess = np.where(bound > 0, off / np.maximum(bound, 1e-300), np.where(off > 0, np.inf, 0.0)).max(axis=1)
+    k = int(np.argmax(excess))
+    scale = np.abs(expected).max()
+    relative = off.max() / scale
+    if hint is None and relative < 1e-6:        # right to many digits, not to round-off
+        hint = (f"your pushes agree with the rule to {relative:.0e} of the largest, but round-off "
+                f"leaves them within {bound.max() / scale:.0e}: is something added to |d|², such as "
+                "a guard ε against a division by zero?",
+                "a boid at the same point as another is not its neighbour (Section 1), so no pair "
+                "has d = 0 and the rule needs no guard; a guard such as |d|² + 1e-12 changes "
+                "every push (np.maximum(|d|², 1e-300) would leave real pairs untouched)")
+    ck.expect(False, what, f"boid {k}: expected {expected[k].round(6)}, got {got[k].round(6)}, off by "
+              f"{off[k].max():.1e} where round-off allows {bound[k].max():.0e} "
+              f"({int(beyond.sum())} of {len(got)} boids beyond round-off)", hint=hint)
 
 
 @exercise(allow=())
@@ -75,9 +91,9 @@ def separation(ck: Checker, func) -> None:
              "away from j, along -d_ij (d_ij = x_j - x_i)"): -expected,
             ("the push must grow as two boids close in: what is its size at distance |d|?",
              "divide by |d|², not |d|: d/|d|² is a push of size 1/|d|"):
-                -_scatter(i, d / np.sqrt(r2)[:, None], n),
+                -_cases.scatter(i, d / np.sqrt(r2)[:, None], n),
             ("d/|d|³ is a push of size 1/|d|²; the rule's push has size 1/|d|",
-             "the rule is d/|d|², a push of size 1/|d|"): -_scatter(i, d / (r2 ** 1.5)[:, None], n),
+             "the rule is d/|d|², a push of size 1/|d|"): -_cases.scatter(i, d / (r2 ** 1.5)[:, None], n),
             ("sum over the neighbours, do not average: more crowding must push harder",
              "sum over the neighbours, do not average: more crowding must push harder"):
                 expected / count,
@@ -85,7 +101,7 @@ def separation(ck: Checker, func) -> None:
              "buffers fancy-index updates)", "use np.add.at(S, i, -w) or np.bincount(i, weights) "
              "per column: both add every pair"): last,
             ("accumulate at i, the boid that sees its neighbour j, not at j",
-             "accumulate at i, the boid that sees its neighbour j, not at j"): -_scatter(j, w, n),
+             "accumulate at i, the boid that sees its neighbour j, not at j"): -_cases.scatter(j, w, n),
         }
         args = (i.copy(), j.copy(), d.copy(), n)
         got = func(*args)
@@ -93,6 +109,9 @@ def separation(ck: Checker, func) -> None:
             ck.expect(False, what, "your function changed its input arrays",
                       hint="build a new array for S instead of updating i, j or d in place")
             continue
+        raw = np.asarray(got)                     # round-off at the answer's own precision
+        eps = max(float(np.finfo(raw.dtype).eps) if np.issubdtype(raw.dtype, np.floating) else 0.0,
+                  float(np.finfo(float).eps))
         got = np.asarray(got, dtype=float)
         if got.ndim == 2 and got.shape[1:] == (2,) and got.shape[0] == i.max() + 1 < n:
             ck.expect(False, what, f"expected one row per boid, shape ({n}, 2), got {got.shape}",
@@ -103,56 +122,44 @@ def separation(ck: Checker, func) -> None:
             ck.expect(False, what, f"expected one row per boid, shape ({n}, 2), got {got.shape}",
                       hint="scatter the pair terms onto the boids: one row per boid, not per pair")
             continue
-        _close_rows(ck, got, expected, what, mistakes)
+        _close_rows(ck, got, expected, roundoff_bound(i, d, n, eps), what, mistakes)
         if isolated and got.shape == (n, 2):
             ck.expect(np.array_equal(got[-1], [0.0, 0.0]), "a boid without neighbours feels no push",
                       f"got {got[-1]}", hint="rows of boids that appear in no pair must stay zero")
 
 
-WEIGHTS = ("separation", "alignment", "cohesion")
-REASONS = {
-    "A": "without it the headings never agree, so the boids keep crossing each other's paths "
-         "and collide",
-    "B": "alignment gives neighbours the same velocity, and boids with the same velocity end "
-         "up at the same place",
-    "C": "it is the only rule that pushes neighbours apart, and its push grows without bound as "
-         "they close in; cohesion keeps pulling each boid to its neighbours' centre, so without "
-         "it nothing stops a group contracting",
-    "D": "it pushes harder than cohesion pulls at every distance, so without it cohesion wins",
-}
-#: The right reason; the others are misconceptions that the notebook's runs refute.
-RIGHT_REASON = "c"
+# --- where separation and cohesion balance ------------------------------------------------
+
+#: (boids on the ring, w_s in m²/s², w_c in 1/s²): the notebook's weights and others, so that
+#: an answer that ignores its arguments fails.
+RING_CASES = ((2, 0.3, 1.0), (3, 0.3, 1.0), (6, 0.3, 1.0), (5, 2.0, 0.5), (12, 0.05, 3.0))
 
 
 @exercise(allow=())
-def flock_breaker(ck: Checker, func) -> None:
-    """``func() -> (weight, reason)``: the weight whose absence piles boids up, and why."""
-    answer = func()
-    if not (isinstance(answer, tuple | list) and len(answer) == 2):
-        ck.expect(False, "answer format", f"expected (weight, letter), got {answer!r}",
-                  hint='return a pair such as ("cohesion", "B")')
-        return
-    weight, reason = (str(a).strip().lower() for a in answer)
-    hints = {
-        "alignment": "without alignment the headings never agree, but nothing pulls harder: "
-                     "which rule, missing, leaves the pull of the others unopposed?",
-        "cohesion": "without cohesion nothing pulls the boids together: how could they pile up?",
-    }
-    if not ck.expect(weight in WEIGHTS, "the weight is one of the three",
-                     f"got {weight!r}", hint=f"answer one of {', '.join(WEIGHTS)}"):
-        return
-    ck.expect(weight == "separation", "the weight whose absence piles the boids up",
-              f"you chose {weight}", hint=hints.get(weight))
-    why = {
-        "a": "disorder does not pile boids up: with random headings (alignment 0) they keep "
-             "their distance, and without separation the flock still orders",
-        "b": "two boids with the same velocity keep the offset between them: parallel flight "
-             "never closes a gap",
-        "d": "if separation won at every distance, no group would ever form: the push, of size "
-             "w_s/|d| per neighbour, and the pull, which grows with |d|, balance at a spacing",
-    }
-    ck.expect(reason == RIGHT_REASON, "the reason", f"you chose {reason.upper()!r}",
-              hint=why.get(reason, "answer one of the letters A, B, C, D"))
+def ring_radius(ck: Checker, func) -> None:
+    """``func(n, w_s, w_c) -> r``: the radius (m) of the ring of ``n`` boids, flying side by
+    side and all in view of each other, on which separation and cohesion cancel."""
+    for n, ws, wc in RING_CASES:
+        what = f"{n} boids, w_s = {ws:g} m²/s², w_c = {wc:g} 1/s²"
+        expected = _lesson.ring_radius(n, ws, wc)
+        got = func(n, ws, wc)
+        value = one_number(ck, what, got, "a radius in m")
+        if value is None:
+            continue
+        rtol = rtol_for(got, 1e-9)                   # the closed form is exact to round-off
+        if np.isclose(value, expected, rtol=rtol, atol=0.0):
+            ck.expect(True, what)
+            continue
+        hint = next((h for h, wrong in _cases.ring_mistakes(n, ws, wc, expected)
+                     if wrong is not None and np.isclose(value, wrong, rtol=1e-6)), None)
+        if hint is None and np.isclose(value, expected, rtol=1e-6):
+            hint = "close, but not to round-off: if you solve for r numerically, converge to 1e-10"
+        ck.expect(False, what, f"expected {expected:.6g} m, got {value:.6g} m",
+                  hint=hint or ("start from a pair: w_s/d = w_c d, with d = 2r; then add neighbours "
+                                "one at a time and keep only what points along the radius",
+                                "by symmetry only radial parts survive: each neighbour pushes "
+                                "outwards with the radial part of d/|d|², and cohesion pulls "
+                                "inwards towards the centre of the other n - 1 boids"))
 
 
 # --- a neighbour search with a uniform grid ---------------------------------------------
@@ -161,9 +168,11 @@ def flock_breaker(ck: Checker, func) -> None:
 #: under a megabyte; one N × N table of float64 needs 32 MB.
 MEMORY_LIMIT = 12_000_000
 #: For four times the points at the same density a grid allocates about four times the
-#: memory in total (a neighbourhood of the same size per point); all pairs, even a row at
-#: a time, sixteen times. Between the two:
-GROWTH_LIMIT = 8.0
+#: memory in total (a neighbourhood of the same size per point; 3.5 to 3.9 measured); a
+#: sweep along one axis eight times (each point meets a strip across the whole domain, whose
+#: length grows as √N; 7.8 measured); all pairs, even a row at a time, sixteen times. The
+#: geometric mean of a grid's 4 and a sweep's 8:
+GROWTH_LIMIT = float(np.sqrt(32.0))
 
 
 def _pair_set(i, j):
@@ -225,15 +234,24 @@ def neighbour_pairs(ck: Checker, func) -> None:
             ck.expect(False, what, f"i and j differ in length ({i.size} and {j.size})")
             continue
         pairs = list(zip(i.tolist(), j.tolist(), strict=True))
-        found = set(pairs)
+        unordered = [(min(a, b), max(a, b)) for a, b in pairs]
+        found = set(unordered)
+        selves = sum(a == b for a, b in pairs)
+        reversed_ = any(a > b for a, b in pairs)
+        repeated = len(unordered) - len(found)         # a pair listed again, in either order
         wrong = []
-        if any(a == b for a, b in pairs):
+        if selves and reversed_:
+            wrong.append(("each pair once, with i < j: that drops both a point paired with itself "
+                          "and the copy (j, i) of every pair (i, j)",))
+        elif selves:
             wrong.append(("a point is paired with itself",
                           "a point is not its own neighbour: keep pairs with i != j"))
-        elif any(a > b for a, b in pairs) and {(min(a, b), max(a, b)) for a, b in pairs} == expected:
+        elif reversed_ and not repeated:
+            wrong.append(("each pair once, with i < j", "return each pair as (i, j) with i < j"))
+        elif reversed_:
             wrong.append(("each pair once, with i < j", "keep the pairs with i < j: (i, j) and "
                           "(j, i) are the same pair"))
-        elif len(pairs) != len(found):
+        elif repeated:
             wrong.append(("some pairs appear twice: each pair once",
                           "a pair met from both of its cells is listed twice: keep i < j, or "
                           "visit only half of the neighbouring cells"))
@@ -242,8 +260,8 @@ def neighbour_pairs(ck: Checker, func) -> None:
             wrong.append(("some pairs you return are farther apart than the radius",
                           "a shared or neighbouring cell is not enough: test |d|² <= radius² "
                           "for every candidate pair"))
-        detail = (f"{len(found & expected)} of {len(expected)} pairs found, {len(extra)} not pairs, "
-                  f"{len(pairs) - len(found)} repeated")
+        detail = (f"{len(found & expected)} of {len(expected)} pairs found, {len(extra)} not pairs"
+                  f"{f' (a point with itself: {selves})' if selves else ''}, {repeated} repeated")
         if wrong:
             ck.expect(False, what, detail, hint=wrong[0])
         elif missing:
@@ -259,15 +277,18 @@ def neighbour_pairs(ck: Checker, func) -> None:
                             "points of its own and the neighbouring cells"))
         elif len(x) > 2000:
             growth = total / max(allocated[2000], 1)
-            ck.expect(growth <= GROWTH_LIMIT, f"{what}: the cost grows as N, not N²",
+            more = ("with cells of side radius a point has about 9ρR² candidates whatever N "
+                    "(ρ the density): compare each point only with the points of its own and "
+                    "the 8 neighbouring cells")
+            ck.expect(growth <= GROWTH_LIMIT, f"{what}: the cost grows as N",
                       f"your function allocated {allocated[2000] / 1e6:.1f} MB in all for 2000 points "
-                      f"and {total / 1e6:.1f} MB for {len(x)} at the same density: {growth:.0f} times "
-                      "as much for 4 times the points (a grid: about 4; all pairs, even a row at a "
-                      "time: 16)",
-                      hint=("that is all pairs, a row at a time: bin the points into cells",
-                            "with cells of side radius a point has about 9ρR² candidates whatever N "
-                            "(ρ the density): compare each point only with the points of its own and "
-                            "the 8 neighbouring cells"))
+                      f"and {total / 1e6:.1f} MB for {len(x)} at the same density: {growth:.1f} times "
+                      "as much for 4 times the points (a grid: about 4; a sweep along one axis: 8; "
+                      "all pairs, even a row at a time: 16)",
+                      hint=("that grows as N^1.5, like a sweep along one axis: each point meets a "
+                            "strip across the whole domain, whose length grows with N; a grid's cells "
+                            "do not", more) if growth < 2 * GROWTH_LIMIT else
+                      ("that is all pairs, a row at a time: bin the points into cells", more))
         else:
             ck.expect(True, what)
             if len(x) == 2000:

@@ -16,11 +16,14 @@ from ..plotting import EXACT_STYLE
 from .nb10_drawings import _boids
 
 
-def _band(ax, t, values, color, label):
-    """Median line and min-max band of ``values`` (seeds × times) against ``t``."""
-    ax.fill_between(t, values.min(axis=0), values.max(axis=0), color=color, alpha=0.25, lw=0,
-                    label=f"{label}: range over {len(values)} seeds")
-    ax.plot(t, np.median(values, axis=0), color=color, lw=1.5, label=f"{label}: median")
+def _seed_lines(ax, t, values, color, seed: int = 0):
+    """One thin line per seed of ``values`` (seeds × times) against ``t``, ``seed``'s bold:
+    every run is seen, not only the range an outlier sets."""
+    for k, row in enumerate(values):
+        if k != seed:
+            ax.plot(t, row, color=color, lw=0.8, alpha=0.55,
+                    label=f"the other {len(values) - 1} seeds" if k == (1 if seed == 0 else 0) else None)
+    ax.plot(t, values[seed], color=color, lw=2.0, label=f"seed {seed} (left)")
 
 
 def draw_crossover(sizes, timings: dict):
@@ -61,13 +64,14 @@ def draw_ensemble(ens, box: float, seed: int = 0):
     x, v = ens.finals[seed]
     _boids(ax0, x, v, box, f"seed {seed}: {len(x)} boids after {ens.t[-1]:.0f} s")
     ax0.set_ylabel("y (m)")
-    _band(ax1, ens.t, ens.polarization, "C0", "flock")
+    _seed_lines(ax1, ens.t, ens.polarization, "C0", seed)
     ax1.axhline(ens.random_polarization, **EXACT_STYLE)
     ax1.text(ens.t[-1], ens.random_polarization + 0.015, r"random headings: $\sqrt{\pi}/(2\sqrt{N})$",
              ha="right", va="bottom", fontsize=8)
-    ax1.set(xlabel="t (s)", ylabel="polarization", ylim=(0, 1.02), title="common heading")
-    ax1.legend(loc="center right", bbox_to_anchor=(1.0, 0.45), fontsize=8, framealpha=1.0)
-    _band(ax2, ens.t_nn, ens.nn, "C2", "flock")
+    ax1.set(xlabel="t (s)", ylabel="polarization", ylim=(0, 1.3), yticks=np.linspace(0, 1, 6),
+            title="common heading")
+    ax1.legend(loc="upper center", ncols=2, fontsize=8, framealpha=1.0)
+    _seed_lines(ax2, ens.t_nn, ens.nn, "C2", seed)
     ax2.axhline(ens.random_nn, **EXACT_STYLE, label="random positions (exact)")
     ax2.set(xlabel="t (s)", ylabel="mean distance (m)", ylim=(0, 1.3),
             title="distance to the nearest neighbour")
@@ -106,9 +110,9 @@ def ens_end(results: dict) -> float:
     return float(next(iter(results.values())).t[-1])
 
 
-def draw_sweep(results: dict, dt: float):
+def draw_sweep(results: dict, dt: float, within: float | None = None):
     """Final polarization of each seed against the alignment weight, and the time each seed
-    first passes 0.5."""
+    first passes 0.5 (with a line at ``within`` s, the time the notebook counts against)."""
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 3.6), constrained_layout=True)
     weights = np.array(list(results))
     never_y, never_label = 1.06 * ens_end(results), f"never, in the {ens_end(results):.0f} s run"
@@ -130,10 +134,15 @@ def draw_sweep(results: dict, dt: float):
         sec.set_xlabel(r"$w_a\,\Delta t$")
     ax1.set(ylabel="polarization after 15 s", ylim=(0, 1.02))
     ax2.axhline(ens_end(results), color="0.6", lw=1, ls=":")
+    if within is not None:
+        ax2.axhline(within, color="C1", lw=1, ls="--")
+        ax2.text(weights[-1] + 1.9, within + 0.25, f"{within:g} s", color="C1", fontsize=8,
+                 ha="right", va="bottom")
     ax2.set(ylabel="first time above 0.5 (s)", ylim=(0, 1.12 * ens_end(results)))
     ax1.legend(fontsize=8, loc="center left")
     ax2.legend(fontsize=8, loc="center right")
-    ax1.set_title("grey: 1 < $w_a\\Delta t$ < 2, between the two limits", fontsize=9)
+    fig.suptitle("one dot per seed; grey: $1 < w_a\\Delta t < 2$, between the limits for two boids "
+                 "and for many", fontsize=10)
     return fig
 
 

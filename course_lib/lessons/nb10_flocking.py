@@ -2,7 +2,8 @@
 
 Holds :func:`run_flock` (boids from a random start, with order parameters over time; the
 computation behind the widget), :func:`neighbour_timings` (all pairs against the k-d
-tree) and the widget view :func:`flock_explorer` (drawings in
+tree), :func:`ring_radius` (where separation and cohesion balance on a ring of boids, the
+answer of Exercise 2) and the widget view :func:`flock_explorer` (drawings in
 :mod:`course_lib.lessons.nb10_drawings`). The studies over many seeds (ensembles, the flock
 under two roundings, the alignment relaxation, the predator, the pillars) are in
 :mod:`course_lib.lessons.nb10_studies`. Built on :mod:`course_lib.boids`; the core never
@@ -98,6 +99,21 @@ def neighbour_timings(sizes, density: float = 0.75, repeats: int = 3, seed: int 
                                                  rtol=0, atol=1e-12):
             raise AssertionError(f"all pairs and tree disagree for n = {n}")
     return {k: np.array(val) for k, val in out.items()}
+
+
+def ring_radius(n: int, separation: float, cohesion: float) -> float:
+    """Radius (m) of the ring of ``n`` evenly spaced boids, all flying the same velocity and
+    all in view of each other, on which separation (``w_s``, m²/s²) and cohesion (``w_c``,
+    1/s²) cancel: each neighbour's push ``d/|d|²`` has the radial part ``1/(2r)`` (a chord
+    of length ``|d|`` reaches ``|d|²/(2r)`` towards the centre), so the ``n − 1`` pushes add
+    to ``w_s (n − 1)/(2r)`` outwards; cohesion pulls towards the centre of the other
+    ``n − 1``, ``n/(n − 1)`` times as far as the ring's centre, ``w_c r n/(n − 1)``. Equal
+    when ``r² = w_s (n − 1)² / (2 n w_c)``; a pair (``n = 2``) sits ``√(w_s/w_c)`` apart."""
+    if int(n) != n or n < 2:
+        raise ValueError(f"n must be a whole number of boids >= 2, got {n!r}")
+    if not (separation > 0 and cohesion > 0):
+        raise ValueError(f"separation and cohesion must be > 0, got {separation!r} and {cohesion!r}")
+    return float(np.sqrt(separation * (n - 1) ** 2 / (2.0 * n * cohesion)))
 
 
 def flock_explorer(separation: float = 0.3, alignment: float = 2.0, cohesion: float = 1.0):
