@@ -105,8 +105,31 @@ def test_fountain_lands_half_g_dt_t_below_its_parabola():
     assert np.abs(drop - nb09.parabola_offset(ps["age"])).max() < 60 * 8 * np.finfo(float).eps * 4.0 < 1e-12
     assert np.abs(parabola[:, [0, 2]] - ps["x"][:, [0, 2]]).max() < 1e-12
     assert 0.5 * 9.81 * DT == pytest.approx(0.16, abs=0.005)          # "16 cm per second of flight"
-    # with the ground: 2958 drops after 5 s (the picture's title)
+    # "x + dt v + dt²g/2 would be exact with v from the start of the step; with the updated v
+    # it falls g dt² too far per step, twice as far below the parabola as symplectic Euler"
+    g, x0, v0 = -9.81, 0.0, 6.0
+    start, updated, euler = np.array([x0, v0]), np.array([x0, v0]), np.array([x0, v0])
+    for _ in range(60):
+        start = np.array([start[0] + DT * start[1] + 0.5 * DT**2 * g, start[1] + DT * g])
+        v_new = updated[1] + DT * g
+        updated = np.array([updated[0] + DT * v_new + 0.5 * DT**2 * g, v_new])
+        v_new = euler[1] + DT * g
+        euler = np.array([euler[0] + DT * v_new, v_new])
+    exact = x0 + v0 * 2.0 + 0.5 * g * 2.0**2
+    assert start[0] == pytest.approx(exact, abs=1e-12)
+    assert exact - updated[0] == pytest.approx(2 * (exact - euler[0]), rel=1e-9)
+    assert exact - euler[0] == pytest.approx(0.5 * 9.81 * DT * 2.0, rel=1e-9)
+    # with the ground: 2958 drops after 5 s (the picture's title); the loop written out in
+    # the notebook is lesson.run's
     ground = nb09.run(nb09.fountain().emit, nb09.gravity_bounce(0.5), 150, snapshot_frames=[149])
+    rng, fountain, mine, population = np.random.default_rng(2026), nb09.fountain(), P.ParticleSystem(3), []
+    for frame in range(150):
+        fountain.emit(mine, frame * DT, rng)
+        mine.step(DT, nb09.G)
+        nb09.bounce(mine, restitution=0.5)
+        mine.expire()
+        population.append(len(mine))
+    assert population == ground.population.tolist() and np.array_equal(mine["x"], ground.system["x"])
     snap = ground.snapshots[149]
     assert len(snap["age"]) == 2958
     low = snap["x"][:, 1] < 0.01                                       # the drops on the ground
@@ -185,6 +208,11 @@ def test_whirlpool_is_second_order():
 def test_ten_thousand_particles_frame_cost_cell():
     _, live = nb09.frame_cost(10_000)                     # the time is make bench's to judge
     assert live == 9913
+    # "lifetimes of 2 ± 0.5 s (whole numbers of frames, 120 ± 30) ... 83.7 per frame"
+    L, V, dt = 2.0, 0.5, 1 / 60
+    assert round(L / dt) == 120 and round(V / dt) == 30 and abs(L / dt - 120) < 1e-12
+    assert f"{10_000 / (L / dt - 0.5):.1f}" == "83.7"
+    assert P.steady_population(10_000 / (L / dt - 0.5), dt, L, V) == pytest.approx(10_000, rel=1e-12)
 
 
 def test_scenes_say_what_they_do():
@@ -303,6 +331,11 @@ def _rejection(mean, variance, radius, rng):
     return out[:k]
 
 
+def _root_of_ru(mean, variance, radius, rng):
+    k = ROUND(mean, variance, rng)
+    return _polar(np.sqrt(radius * rng.random(k)), rng.uniform(0, 2 * np.pi, k))
+
+
 EMIT_PLANTED = {
     "right": (_emit_right, "correct", None),
     "plain rounding": (_emit_variant(ROUND), "correct", None),
@@ -339,6 +372,26 @@ EMIT_PLANTED = {
     "rejection sampling from the square": (_rejection, "correct", None),
     "np.random instead of rng": (lambda m, v, radius, rng: _emit_right(m, v, radius, np.random.default_rng()),
                                  "incorrect", "from the generator `rng` you are given"),
+    # right only on the check's first emitter: the second (mean 3.4, variance 2, R = 0.5) breaks it
+    "hard-codes mean 12.25, variance 6, radius 2 (ignores its arguments)":
+        (lambda m, v, radius, rng: _emit_right(12.25, 6.0, 2.0, rng), "incorrect", "use the arguments mean"),
+    # the root taken of R u: no point beyond √R (beyond R when R < 1); not "r = R u crowds"
+    "r = √(R u)": (_root_of_ru, "incorrect", "√R"),
+    # Reeves' variance read as the statistical one: √variance × U (0.42 and 0.71 of the spread)
+    "mean + √variance × U(-1, 1)": (
+        _emit_variant(lambda m, v, rng: round(m + np.sqrt(v) * rng.uniform(-1, 1))),
+        "incorrect", "not the statistical variance"),
+    "a spread halved, variance × (u - ½)": (
+        _emit_variant(lambda m, v, rng: round(m + v * (rng.random() - 0.5))),
+        "incorrect", "the spread is halved"),
+}
+
+#: Hints that each name one mistake: a planted answer must not get another's.
+EMIT_AVOID = {
+    "r = √(R u)": "r = R u crowds the centre",
+    "mean + √variance × U(-1, 1)": "the spread is halved",
+    "a spread halved, variance × (u - ½)": "not the statistical variance",
+    "hard-codes mean 12.25, variance 6, radius 2 (ignores its arguments)": "crowds the centre",
 }
 
 
@@ -349,6 +402,8 @@ def test_check_emit_planted(planted):
     assert got == status, (planted, messages)
     if nudge:
         assert nudge in messages, (planted, messages)
+    if planted in EMIT_AVOID:
+        assert EMIT_AVOID[planted] not in messages, (planted, messages)
     # the spiral hint is for answers whose radius and angle share random numbers, never for
     # a wrong radius law or a half turn (independent draws), nor for a frame's particles
     # depending on each other (their own hint says so)
@@ -368,11 +423,44 @@ def test_check_emit_escalates_and_is_pending_when_blank(capsys):
     assert judged(check.emit, pending)[0] == "pending"
 
 
+def _alive(data, n):
+    """Section 1's rule, written out: alive while the counted age is below the lifetime by
+    more than a few units of round-off."""
+    return data["age"][:n] < data["lifetime"][:n] * (1 - 4 * np.finfo(float).eps)
+
+
 def _expire_right(data, n):
+    alive = _alive(data, n)
+    m = int(alive.sum())
+    for a in data.values():
+        a[:m] = a[:n][alive]
+    return m
+
+
+def _expire_strict(data, n):
     alive = data["age"][:n] < data["lifetime"][:n]
     m = int(alive.sum())
     for a in data.values():
         a[:m] = a[:n][alive]
+    return m
+
+
+def _expire_isclose(data, n):
+    age, life = data["age"][:n], data["lifetime"][:n]
+    alive = (age < life) & ~np.isclose(age, life)
+    m = int(alive.sum())
+    for a in data.values():
+        a[:m] = a[:n][alive]
+    return m
+
+
+def _expire_argsort(data, n):
+    """Survivors first by a stable sort on the dead flag: right, and no loop."""
+    dead = ~_alive(data, n)
+    order = np.argsort(dead, kind="stable")
+    m = int((~dead).sum())
+    for a in data.values():
+        a[:n] = a[:n][order]
     return m
 
 
@@ -385,7 +473,7 @@ def _expire_le(data, n):
 
 
 def _expire_some_keys(data, n):
-    alive = data["age"][:n] < data["lifetime"][:n]
+    alive = _alive(data, n)
     m = int(alive.sum())
     for k in ("x", "age", "lifetime"):
         data[k][:m] = data[k][:n][alive]
@@ -394,7 +482,7 @@ def _expire_some_keys(data, n):
 
 def _expire_swap_remove(data, n):
     """Vectorized swap-with-last: the holes in front take the survivors from the back."""
-    alive = data["age"][:n] < data["lifetime"][:n]
+    alive = _alive(data, n)
     m = int(alive.sum())
     holes, movers = np.flatnonzero(~alive[:m]), np.flatnonzero(alive[m:]) + m
     for a in data.values():
@@ -406,7 +494,7 @@ def _expire_loop(data, n):
     """Right answer, but a Python loop over the particles."""
     m = 0
     for i in range(n):
-        if data["age"][i] < data["lifetime"][i]:
+        if data["age"][i] < data["lifetime"][i] * (1 - 4 * np.finfo(float).eps):
             for a in data.values():
                 a[m] = a[i]
             m += 1
@@ -418,7 +506,7 @@ def _expire_returns_dead(data, n):
 
 
 def _expire_whole_capacity(data, n):
-    alive = data["age"] < data["lifetime"]
+    alive = data["age"] < data["lifetime"] * (1 - 4 * np.finfo(float).eps)
     m = int(alive.sum())
     for a in data.values():
         a[:m] = a[alive]
@@ -426,18 +514,22 @@ def _expire_whole_capacity(data, n):
 
 
 def _expire_rebind(data, n):
-    alive = data["age"][:n] < data["lifetime"][:n]
+    alive = _alive(data, n)
     for k in list(data):
         data[k] = data[k][:n][alive]
     return int(alive.sum())
 
 
 def _expire_inverted(data, n):
-    alive = data["age"][:n] >= data["lifetime"][:n]
+    alive = ~_alive(data, n)
     m = int(alive.sum())
     for a in data.values():
         a[:m] = a[:n][alive]
     return m
+
+
+def _expire_mask(data, n):
+    return _alive(data, n)
 
 
 EXPIRE_PLANTED = {
@@ -451,7 +543,7 @@ EXPIRE_PLANTED = {
     "age <= lifetime (broken by particles exactly at their lifetime)":
         (_expire_le, "incorrect", "a particle whose age has reached its lifetime dies"),
     "only some attributes": (_expire_some_keys, "incorrect", "wrong in ['colour']"),
-    "counts but moves nothing": (lambda data, n: int(np.sum(data["age"][:n] < data["lifetime"][:n])),
+    "counts but moves nothing": (lambda data, n: int(np.sum(_alive(data, n))),
                                  "incorrect", "move the survivors to the front"),
     "swap with the last (order lost)": (_expire_swap_remove, "incorrect", "original order"),
     "rebinds the arrays": (_expire_rebind, "incorrect", "do not rebind"),
@@ -459,13 +551,20 @@ EXPIRE_PLANTED = {
     "a loop over the particles (broken by 200 rows)": (_expire_loop, "incorrect", "no loop over particles"),
     "right arrays, returns n - m": (_expire_returns_dead, "incorrect", "but the function did not return"),
     "masks the whole capacity": (_expire_whole_capacity, "incorrect", "only the first n rows are live"),
+    "age < lifetime, no tolerance (broken by 5 × (1/24) < 5/24)": (_expire_strict, "incorrect",
+                                                                   "one unit of round-off below"),
+    "np.isclose's tolerance (kills a particle with 2 μs to go)": (_expire_isclose, "incorrect",
+                                                                  "np.isclose's default tolerance"),
+    "a stable sort on the dead flag (fine)": (_expire_argsort, "correct", None),
+    "returns the mask": (_expire_mask, "incorrect", "return the number of survivors"),
 }
 
 #: Hints that each name one mistake: an answer must never get another mistake's hint.
 EXPIRE_HINTS = ("a particle whose age has reached its lifetime dies", "wrong in [",
                 "move the survivors to the front", "original order", "do not rebind",
                 "deleted the living ones", "no loop over particles", "but the function did not return",
-                "only the first n rows are live")
+                "only the first n rows are live", "one unit of round-off below",
+                "np.isclose's default tolerance")
 
 
 @pytest.mark.parametrize("planted", sorted(EXPIRE_PLANTED))
@@ -478,8 +577,14 @@ def test_check_expire_planted(planted):
     if nudge:
         assert all(h not in messages for h in EXPIRE_HINTS if h != nudge and h not in nudge), messages
     if planted.startswith("age <="):
-        assert "not age <= lifetime" not in messages                  # the nudge only
-        assert "not age <= lifetime" in judged(check.expire, answer, attempt=1)[1]
+        assert "not below or equal" not in messages                   # the nudge only
+        assert "not below or equal" in judged(check.expire, answer, attempt=1)[1]
+    # no hint writes the answer's code (the prompt no longer does either)
+    for attempt in (0, 1, 2):
+        text = judged(check.expire, answer, attempt=attempt)[1]
+        assert "[:n][alive]" not in text and "a[:m] =" not in text, (planted, text)
+    if planted == "returns the mask":
+        assert "array of shape (200,)" in messages and "True" not in messages   # not 200 booleans
 
 
 def _population_right(mean_counts, dt, lifetime, lifetime_variance):
@@ -529,7 +634,26 @@ POPULATION_PLANTED = {
     "age <= lifetime with fixed lifetimes (broken by 6 whole frames)":
         (_population_with(strict=False, tolerance=False), "incorrect", "deleted before the count"),
     "the spread taken as V wide": (_population_with(width=1.0), "incorrect", "2V wide"),
-    "the tail of the convolution": (_population_with(head=False), "incorrect", "the first frames come first"),
+    "the tail of the convolution": (_population_with(head=False), "incorrect",
+                                    "the first frames come out wrong"),
+    "np.convolve(..., mode='same')": (notebook_answer(
+        "def expected_population(mean_counts, dt, lifetime, lifetime_variance):\n"
+        "    ages = dt * np.arange(1, len(mean_counts) + 1)\n"
+        "    if lifetime_variance == 0:\n"
+        "        s = (ages < lifetime * (1 - 4 * np.finfo(float).eps)).astype(float)\n"
+        "    else:\n"
+        "        s = np.clip((lifetime + lifetime_variance - ages) / (2 * lifetime_variance), 0, 1)\n"
+        "    return np.convolve(mean_counts, s, mode='same')", "expected_population"),
+        "incorrect", 'mode="same" keeps the middle'),
+    "ages summed with np.cumsum (broken by a hundred frames of 0.1 s)": (notebook_answer(
+        "def expected_population(mean_counts, dt, lifetime, lifetime_variance):\n"
+        "    ages = np.cumsum(np.full(len(mean_counts), dt))\n"
+        "    if lifetime_variance == 0:\n"
+        "        s = (ages < lifetime * (1 - 4 * np.finfo(float).eps)).astype(float)\n"
+        "    else:\n"
+        "        s = np.clip((lifetime + lifetime_variance - ages) / (2 * lifetime_variance), 0, 1)\n"
+        "    return np.convolve(mean_counts, s)[:len(mean_counts)]", "expected_population"),
+        "incorrect", "the ages are summed"),
     "nobody dies": (lambda mu, dt, L, V: np.cumsum(mu), "incorrect", "nobody dies"),
     "no tolerance on the counted age (broken by 5/24 s at 1/24 s)":
         (_population_with(tolerance=False), "incorrect", "compare it with a tolerance"),
@@ -563,6 +687,7 @@ def test_check_expected_population_planted(planted):
     if nudge:
         assert nudge in messages, (planted, messages)
     assert "clip(" not in messages and "sum over k" not in messages     # never the formula
+    assert "np.convolve(" not in messages and "[:frames]" not in messages
     if "uses the reference" not in messages and status != "correct":  # no wall of numbers
         assert all(len(line) < 400 for line in messages.splitlines()), messages
 

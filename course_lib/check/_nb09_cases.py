@@ -1,9 +1,14 @@
-"""Case data of notebook 09's checks of the expire step and of the expected population.
+"""Case data of notebook 09's checks of the emit step, the expire step and the expected
+population.
 
-- :func:`expire_frame` builds a particle system's arrays with particles exactly at their
-  lifetime and dead rows beyond ``n``; :data:`EXPIRE_MISTAKES` are the expire step as the
-  usual mistakes write it, each with the hint it deserves, so that a hint is given only to
-  an answer that did exactly what that mistake does (arrays and return value alike);
+- :func:`counts_and_points` draws an emit answer's frames; :func:`dependence` (χ² on a
+  4 × 4 table, against :data:`CHI2_LIMIT`) and :func:`pairs_within_frames` test the
+  independence of what it draws;
+- :func:`expire_frame` builds a particle system's arrays with counted ages, some exactly at
+  their lifetime and some one unit of round-off below it, and dead rows beyond ``n``;
+  :data:`EXPIRE_MISTAKES` are the expire step as the usual mistakes write it, each with the
+  hint it deserves, so that a hint is given only to an answer that did exactly what that
+  mistake does (arrays and return value alike);
 - :func:`population_cases` are the emission schedules :func:`course_lib.check.nb09.expected_population`
   tries, and :func:`wrong_populations` what the usual mistakes make of one of them.
 
@@ -13,22 +18,75 @@ Imports NumPy and :mod:`course_lib.particles` (the survival function the mistake
 from __future__ import annotations
 
 import numpy as np
+from scipy.stats import chi2
 
 from .. import particles
 
+# --- the emit step: draws and their statistics -------------------------------------------
 
-def expire_frame(rng: np.random.Generator, n: int, capacity: int) -> dict:
-    """Arrays of ``capacity`` rows, ``n`` of them live: ages and lifetimes on a 0.1 s grid
-    (so some are equal), one particle exactly at its lifetime, dead rows aged 0."""
+
+def counts_and_points(func, mean, variance, radius, calls: int, seed: int):
+    """The counts of ``calls`` frames of ``func(mean, variance, radius, rng)`` and all their
+    points, from one seeded generator."""
+    rng = np.random.default_rng(seed)
+    counts, points = [], []
+    for _ in range(calls):
+        p = np.asarray(func(mean, variance, radius, rng), dtype=float)
+        if p.ndim != 2 or p.shape[1:] != (2,):
+            raise ValueError(f"expected positions of shape (k, 2), got shape {p.shape}")
+        counts.append(p.shape[0])
+        points.append(p)
+    return np.array(counts), np.concatenate(points)
+
+
+#: χ² threshold of a test of independence on a 4 × 4 table (9 degrees of freedom):
+#: exceeded by independent variables with probability 1e-6.
+CHI2_LIMIT = float(chi2.isf(1e-6, 9))
+
+
+def dependence(a, b) -> float:
+    """χ² of the 4 × 4 table of ``a`` against ``b`` (each in [0, 1]) against the product of
+    its own row and column sums: large only when the two depend on each other, whatever
+    their separate distributions (a wrong radius law alone does not raise it)."""
+    table, _, _ = np.histogram2d(np.clip(a, 0, 1), np.clip(b, 0, 1), bins=4, range=[[0, 1], [0, 1]])
+    expected = table.sum(axis=1, keepdims=True) * table.sum(axis=0, keepdims=True) / max(table.sum(), 1)
+    seen = expected > 0
+    return float(np.sum((table - expected)[seen] ** 2 / expected[seen]))
+
+
+def pairs_within_frames(counts) -> np.ndarray:
+    """Index of the first particle of the pairs (0, 1), (2, 3), ... of every frame."""
+    start = np.repeat(np.cumsum(counts) - counts, counts)
+    place = np.arange(counts.sum()) - start
+    return np.flatnonzero((place % 2 == 0) & (place + 1 < np.repeat(counts, counts)))
+
+
+# --- the expire step ----------------------------------------------------------------------
+
+
+def expire_frame(rng: np.random.Generator, n: int, capacity: int, fps: int = 24) -> dict:
+    """Arrays of ``capacity`` rows, ``n`` of them live, at ``fps`` frames per second: ages
+    counted as ``steps × dt`` with ``dt = 1/fps`` (as a particle system counts them) and
+    lifetimes of a whole number of frames written as decimals, ``frames / fps``; so some
+    ages equal their lifetime and some land one unit of round-off below it (at 24 frames
+    per second, 5 × (1/24) < 5/24). Row 1 is exactly at its lifetime in frames, one unit
+    of round-off short; row 2 has 2 μs of its lifetime left (it lives); row 3 is exactly at
+    its lifetime. Dead rows beyond ``n`` are aged 0."""
+    dt = 1.0 / fps
+    steps = rng.integers(1, 40, capacity)
+    frames = rng.integers(5, 40, capacity)
     data = {
         "x": rng.normal(size=(capacity, 3)),
-        "age": np.round(rng.uniform(0.0, 2.0, capacity), 1),
-        "lifetime": np.round(rng.uniform(0.5, 2.0, capacity), 1),
+        "age": steps * dt,
+        "lifetime": frames / fps,
         "colour": rng.uniform(size=(capacity, 3)),
     }
-    data["age"][n:] = 0.0                       # dead rows beyond n must be left alone
     if n > 2:
-        data["age"][1] = data["lifetime"][1]    # exactly at its lifetime: it dies
+        data["age"][1], data["lifetime"][1] = 5 * dt, 5 / fps       # reached, one ulp short
+        data["lifetime"][2] = data["age"][2] + 2e-6                 # 2 μs to go: alive
+    if n > 3:
+        data["age"][3], data["lifetime"][3] = 6 * dt, 6 / fps       # reached (equal at 24 fps)
+    data["age"][n:] = 0.0                       # dead rows beyond n must be left alone
     return data
 
 
@@ -43,16 +101,29 @@ def _le(data, n):
     return _compact(data, data["age"][:n] <= data["lifetime"][:n])
 
 
+def _strict(data, n):
+    return _compact(data, data["age"][:n] < data["lifetime"][:n])
+
+
+def _isclose(data, n):
+    age, life = data["age"][:n], data["lifetime"][:n]
+    return _compact(data, (age < life) & ~np.isclose(age, life))
+
+
+def _alive(data, n):
+    return ~particles.reached(data["age"][:n], data["lifetime"][:n])
+
+
 def _whole_capacity(data, n):
-    return _compact(data, data["age"] < data["lifetime"])
+    return _compact(data, ~particles.reached(data["age"], data["lifetime"]))
 
 
 def _inverted(data, n):
-    return _compact(data, data["age"][:n] >= data["lifetime"][:n])
+    return _compact(data, ~_alive(data, n))
 
 
 def _swap_with_last(data, n):
-    keep = data["age"][:n] < data["lifetime"][:n]
+    keep = _alive(data, n)
     m = int(np.count_nonzero(keep))
     holes, movers = np.flatnonzero(~keep[:m]), np.flatnonzero(keep[m:]) + m
     for values in data.values():
@@ -61,12 +132,12 @@ def _swap_with_last(data, n):
 
 
 def _returns_n(data, n):
-    _compact(data, data["age"][:n] < data["lifetime"][:n])
+    _compact(data, _alive(data, n))
     return n
 
 
 def _returns_dead(data, n):
-    return n - _compact(data, data["age"][:n] < data["lifetime"][:n])
+    return n - _compact(data, _alive(data, n))
 
 
 _RIGHT_ARRAYS = ("your arrays hold the survivors, in order, but the function did not return "
@@ -76,13 +147,21 @@ _RIGHT_ARRAYS = ("your arrays hold the survivors, in order, but the function did
 #: the mistake's on a case gets its hint.
 EXPIRE_MISTAKES = (
     (_le, ("a particle whose age has reached its lifetime dies",
-           "a particle whose age has reached its lifetime dies: keep age < lifetime, "
-           "not age <= lifetime")),
+           "a particle whose age has reached its lifetime dies: it survives only while its age "
+           "is below its lifetime (not below or equal), within round-off")),
+    (_strict, ("an age counted as steps × dt can land one unit of round-off below a lifetime it "
+               "has reached (Section 1): 5 × (1/24) < 5/24",
+               "treat an age within a few units of round-off of its lifetime as reached: a relative "
+               "tolerance of a few ε (np.finfo(float).eps), as Section 1 does")),
+    (_isclose, ("np.isclose's default tolerance (1e-5 relative) kills a particle whose lifetime is "
+                "still 2 μs ahead of its age",
+                "round-off in a counted age is a unit or two in the last place, about 1e-16 "
+                "relative: a tolerance of a few ε is enough, and a larger one kills particles early")),
     (_whole_capacity, "only the first n rows are live; the rows beyond n are free slots"),
     (_inverted, "you kept the expired particles and deleted the living ones"),
     (_swap_with_last, ("keep the survivors in their original order",
-                       "keep the survivors in their original order: data[k][:m] = data[k][:n][alive] "
-                       "moves them all at once")),
+                       "moving the last particles into the holes breaks the order: gather the "
+                       "survivors' rows with the boolean mask instead, all at once")),
     (_returns_n, _RIGHT_ARRAYS),
     (_returns_dead, _RIGHT_ARRAYS),
 )
@@ -95,7 +174,8 @@ def population_cases():
     lifetimes of exactly six frames (is the last frame counted?), of 5.6 and 5.3 frames
     (rounding the lifetime to whole frames), of five frames of 1/24 s (the counted age
     5 × (1/24) lands one unit of round-off below 5/24: compared without Section 1's
-    tolerance, the particle lives a frame too long)."""
+    tolerance, the particle lives a frame too long) and of a hundred frames of 0.1 s (an
+    age summed frame by frame falls short of 10 s: it must be counted, Section 1)."""
     burst = np.zeros(12)
     burst[0] = 1000.0
     ramp = np.concatenate((np.arange(40.0), np.zeros(30)))
@@ -110,6 +190,8 @@ def population_cases():
            0.125, 0.6625, 0.0)
     yield ("5 per frame, every lifetime 5/24 s (5 frames), dt = 1/24 s", np.full(20, 5.0),
            1 / 24, 5 / 24, 0.0)
+    yield ("5 per frame, every lifetime 10 s (100 frames), dt = 0.1 s", np.full(120, 5.0),
+           0.1, 10.0, 0.0)
 
 
 def wrong_populations(mu, dt, life, var) -> dict:
@@ -122,7 +204,17 @@ def wrong_populations(mu, dt, life, var) -> dict:
     def spread(s):
         return np.convolve(mu, s)[:n]
 
+    summed = np.cumsum(np.full(n, dt))                    # ages added up step by step
+    half = (n - 1) // 2                                   # where mode="same" starts
+    first_frames = ("the first frames come out wrong: which part of the full convolution is the "
+                    "population after frame j?", "element j of the full convolution adds counts[k] "
+                    "times S at the age (j - k + 1) dt, for k = 0 ... j: that is the population after "
+                    "frame j, for the first len(counts) elements")
     mistakes = {  # first match wins: on one case two mistakes can give the same numbers
+        ("the ages are summed, dt + dt + ...: after 100 steps of 0.1 s the sum falls short of "
+         "10 s (Section 1)", "count the ages, m × dt for m = 1, 2, ...: a sum of m steps piles "
+         "up m roundings, and the particle lives a frame too long"):
+            spread((summed < life * (1 - 4 * np.finfo(float).eps)).astype(float)) if var == 0 else None,
         ("a counted age m·dt can land a hair below a lifetime of m frames (Section 1): compare "
          "it with a tolerance", "with dt = 1/24 s the age 5 × dt is one unit of round-off below "
          "5/24 s: treat an age within a few units of round-off of the lifetime as reached, as "
@@ -158,9 +250,9 @@ def wrong_populations(mu, dt, life, var) -> dict:
         ("the lifetimes are spread uniformly over [L - V, L + V], 2V wide",
          "S(a) falls linearly from 1 at a = L - V to 0 at a = L + V"):
             spread(np.clip((life + var - ages) / var, 0, 1)) if var else None,
-        ("the first frames come first: keep the head of the full convolution",
-         "np.convolve(counts, S)[:frames]"):
-            np.convolve(mu, particles.survival(ages, life, var))[n - 1:],
+        first_frames: np.convolve(mu, particles.survival(ages, life, var))[n - 1:],
+        (first_frames[0] + " (mode=\"same\" keeps the middle of it)", first_frames[1]):
+            np.convolve(mu, particles.survival(ages, life, var))[half:half + n],
     }
     return {hint: wrong for hint, wrong in mistakes.items()
             if wrong is not None and not np.allclose(wrong, right, rtol=1e-9, atol=1e-9)}

@@ -1,9 +1,12 @@
 """Checks for notebook 09, particle systems: the emit step, the expire step and the
 expected population.
 
-The emit check is statistical: it draws 4000 frames and tests the counts (range, mean,
-spread) and the positions: on the disc, uniform by area, all directions, radius and angle
-*independent* of each other, and the particles of one frame independent of each other.
+The emit check is statistical: it draws 4000 frames from each of two emitters (different
+means, variances and radii, so that an answer that ignores its arguments fails) and tests
+the counts (range, mean, spread) and the positions: on the disc, uniform by area (the
+fractions within R/2 and beyond 0.9 R), all directions, radius and angle *independent* of
+each other, and the particles of one frame independent of each other. A hint names a wrong
+count rule or radius law only when both emitters show it.
 Independence is judged by χ² on a 4 × 4 table against the product of the table's own row
 and column sums (so a wrong radius law alone does not look like dependence), at a
 threshold independent variables exceed once in a million runs. The expire check runs the
@@ -15,7 +18,6 @@ call the library (``allow=()``). Case data: :mod:`course_lib.check._nb09_cases`.
 from __future__ import annotations
 
 import numpy as np
-from scipy.stats import chi2
 
 from .. import particles
 from . import Checker, Hint, exercise
@@ -25,38 +27,58 @@ from ._answers import call_analysis, close
 _SEED = 909
 
 
-def _counts_and_points(func, mean, variance, radius, calls):
-    rng = np.random.default_rng(_SEED)
-    counts, points = [], []
-    for _ in range(calls):
-        p = np.asarray(func(mean, variance, radius, rng), dtype=float)
-        if p.ndim != 2 or p.shape[1:] != (2,):
-            raise ValueError(f"expected positions of shape (k, 2), got shape {p.shape}")
-        counts.append(p.shape[0])
-        points.append(p)
-    return np.array(counts), np.concatenate(points)
+#: The two disc emitters the check draws from, (mean count, variance, radius in m): the
+#: second catches an answer that ignores its arguments.
+EMITTERS = ((12.25, 6.0, 2.0), (3.4, 2.0, 0.5))
+_FRAMES = 4000
 
 
-#: χ² threshold of a test of independence on a 4 × 4 table (9 degrees of freedom):
-#: exceeded by independent variables with probability 1e-6.
-_CHI2_LIMIT = float(chi2.isf(1e-6, 9))
+def _which(failed: list) -> str:
+    """``" (with mean 3.4, variance 2, R = 0.5)"`` for the emitters in ``failed``."""
+    return "; ".join(f"with mean {m:g}, variance {v:g}, R = {r:g}: {what}" for (m, v, r), what in failed)
 
 
-def _dependence(a, b) -> float:
-    """χ² of the 4 × 4 table of ``a`` against ``b`` (each in [0, 1]) against the product of
-    its own row and column sums: large only when the two depend on each other, whatever
-    their separate distributions (a wrong radius law alone does not raise it)."""
-    table, _, _ = np.histogram2d(np.clip(a, 0, 1), np.clip(b, 0, 1), bins=4, range=[[0, 1], [0, 1]])
-    expected = table.sum(axis=1, keepdims=True) * table.sum(axis=0, keepdims=True) / max(table.sum(), 1)
-    seen = expected > 0
-    return float(np.sum((table - expected)[seen] ** 2 / expected[seen]))
+def _count_variance_hint(draws) -> Hint:
+    """Name the spread a wrong count rule has, if every emitter shows the same one: counts
+    that vary as variance/2 × U(-1, 1) (a halved spread), √variance × U(-1, 1) (Reeves'
+    variance read as the statistical variance) or not at all. Rounding to a whole count adds
+    up to 1/6 to the variance of each."""
+    if all(counts.std() < 0.3 * v / np.sqrt(3) for (_, v, _), counts, _ in draws):
+        return ("the count hardly varies: is a new random number drawn every frame?",
+                "draw a new count every frame: mean + variance × rng.uniform(-1, 1)")
+    rules = {
+        ("rng.random() spans [0, 1), half of U(-1, 1): the spread is halved",
+         "mean + variance × U(-1, 1) with U = rng.uniform(-1, 1): a spread of the whole width"):
+            lambda v: v * v / 12,
+        ("Reeves' variance is the half-width of the spread, not the statistical variance: do not "
+         "take its square root", "mean + variance × U(-1, 1): the count's standard deviation is "
+         "then variance/√3"): lambda v: v / 3,
+    }
+    for hint, spread in rules.items():
+        if all(0.8 * spread(v) <= counts.var() <= 1.2 * (spread(v) + 1 / 6)
+               for (_, v, _), counts, _ in draws):
+            return hint
+    if all(counts.std() > v / np.sqrt(3) * 1.1 for (_, v, _), counts, _ in draws):
+        return "the spread is uniform, variance × U(-1, 1), with standard deviation variance/√3"
+    return None
 
 
-def _pairs_within_frames(counts) -> np.ndarray:
-    """Index of the first particle of the pairs (0, 1), (2, 3), ... of every frame."""
-    start = np.repeat(np.cumsum(counts) - counts, counts)
-    place = np.arange(counts.sum()) - start
-    return np.flatnonzero((place % 2 == 0) & (place + 1 < np.repeat(counts, counts)))
+def _radius_hint(draws) -> Hint:
+    """Name a wrong radius law from the fractions within R/2 and beyond 0.9 R (a quarter and
+    19 % when uniform by area)."""
+    inner = [np.mean(np.hypot(*p.T) < r / 2) for (_, _, r), _, p in draws]
+    outer = [np.mean(np.hypot(*p.T) > 0.9 * r) for (_, _, r), _, p in draws]
+    if all(abs(i - 0.5) < 0.03 and abs(o - 0.1) < 0.02 for i, o in zip(inner, outer, strict=True)):
+        return ("r = R u crowds the centre: how does the area within radius r grow with r?",
+                "r = R u crowds the centre: the area within r grows as r², so draw r = R √u "
+                "to give equal areas equal numbers of particles")
+    if all(i < 0.01 for i in inner):
+        return ("the particles sit on the rim: that is a ring, not a disc",
+                "the particles sit on the rim: that is a ring, not a disc; draw r = R √u")
+    if all(o < 0.01 for o in outer):
+        return ("no particle reaches the rim: is the square root taken of the right thing?",
+                "r = R √u reaches R when u reaches 1; √(R u) stops at √R")
+    return None
 
 
 def _disc_hint(pts, radius) -> Hint:
@@ -64,6 +86,10 @@ def _disc_hint(pts, radius) -> Hint:
     if corners and abs(np.mean(np.hypot(*pts.T) > radius) - (1 - np.pi / 4)) < 0.02:
         return ("x and y drawn independently fill a square, not a disc",
                 "x and y drawn independently fill a square; draw a radius and an angle")
+    if radius < 1 and abs(np.hypot(*pts.T).max() - np.sqrt(radius)) < 0.01 * radius:
+        return (f"the farthest particle is at √R = {np.sqrt(radius):.3f}, not R = {radius:g}: is the "
+                "square root taken of R u instead of u?", "r = R √u reaches R when u reaches 1; "
+                "√(R u) reaches √R, beyond R when R < 1")
     return ("some particles land outside the disc: can your radius exceed `radius`?",
             "draw the radius so that it never exceeds R (r = R √u with u = rng.random(k)) and "
             "the angle over a full turn")
@@ -71,86 +97,96 @@ def _disc_hint(pts, radius) -> Hint:
 
 @exercise(allow=())
 def emit(ck: Checker, func) -> None:
-    """``func(mean, variance, radius, rng) -> (k, 2)``: this frame's new particles."""
-    a = np.asarray(func(12.25, 6.0, 2.0, np.random.default_rng(1)), dtype=float)
-    b = np.asarray(func(12.25, 6.0, 2.0, np.random.default_rng(1)), dtype=float)
+    """``func(mean, variance, radius, rng) -> (k, 2)``: this frame's new particles, judged
+    statistically over 4000 frames of each of the two :data:`EMITTERS`."""
+    a = np.asarray(func(*EMITTERS[0], np.random.default_rng(1)), dtype=float)
+    b = np.asarray(func(*EMITTERS[0], np.random.default_rng(1)), dtype=float)
     if not ck.expect(a.shape == b.shape and np.array_equal(a, b),
                      "the same seed gives the same particles",
                      "two generators with the same seed gave different results",
                      hint="draw every random number from the generator `rng` you are given "
                           "(rng.uniform, rng.random), not from np.random or random"):
         return
-    mean, variance, radius, calls = 12.25, 6.0, 2.0, 4000
-    counts, pts = _counts_and_points(func, mean, variance, radius, calls)
-    lo, hi = int(np.floor(mean - variance)), int(np.ceil(mean + variance))
-    ck.expect(counts.min() >= lo and counts.max() <= hi,
-              f"every count lies in [{lo}, {hi}]", f"counts ranged over [{counts.min()}, {counts.max()}]",
+    draws = [(e, *_cases.counts_and_points(func, *e, _FRAMES, _SEED)) for e in EMITTERS]
+    (e1, _, _), (e2, c2, p2) = draws
+    far2 = float(np.hypot(*p2.T).max()) if p2.size else 0.0
+    fixed = [name for name, same in (
+        ("the count", abs(c2.mean() - e1[0]) < 4 * np.sqrt((e1[1] ** 2 / 3 + 0.25) / _FRAMES)),
+        ("the radius", abs(far2 - e1[2]) < 0.01 * e1[2])) if same]
+    if not ck.expect(not fixed, "the counts and the disc follow the arguments",
+                     f"with mean {e2[0]:g}, variance {e2[1]:g} and radius {e2[2]:g}, {' and '.join(fixed)} "
+                     f"came out as for mean {e1[0]:g}, variance {e1[1]:g} and radius {e1[2]:g} (mean "
+                     f"count {c2.mean():.2f}, farthest particle at {far2:.3f})",
+                     hint="use the arguments mean, variance and radius: the check calls your "
+                          "function for two different emitters"):
+        return
+    names = " and ".join(f"{m:g} ± {v:g}" for m, v, _ in EMITTERS)
+    bad = [(e, f"counts ranged over [{c.min()}, {c.max()}]") for e, c, _ in draws
+           if c.min() < np.floor(e[0] - e[1]) or c.max() > np.ceil(e[0] + e[1])]
+    ck.expect(not bad, f"every count lies in [mean - variance, mean + variance] ({names})", _which(bad),
               hint=("Reeves' count is never outside [mean - variance, mean + variance]: is your "
                     "random number bounded?",
                     "Reeves' count is mean + variance × U(-1, 1) with U uniform (rng.uniform(-1, 1)), "
                     "not a normal draw: it never leaves [mean - variance, mean + variance]"))
-    se = np.sqrt((variance**2 / 3 + 0.25) / calls)
-    got = counts.mean()
+    se = [np.sqrt((v**2 / 3 + 0.25) / _FRAMES) for _, v, _ in EMITTERS]
+    bad = [(e, f"it was {c.mean():.3f}") for (e, c, _), s in zip(draws, se, strict=True)
+           if abs(c.mean() - e[0]) >= 4 * s]
     hint = None
-    if abs(got - (mean + variance / 2)) < 4 * se:
+    if all(abs(c.mean() - (m + v / 2)) < 4 * s for ((m, v, _), c, _), s in zip(draws, se, strict=True)):
         hint = "rng.random() is uniform on [0, 1); the spread must be symmetric: U(-1, 1)"
-    elif abs(got - (mean - 0.5)) < 4 * se:
+    elif all(abs(c.mean() - (m - 0.5)) < 4 * s for ((m, _, _), c, _), s in zip(draws, se, strict=True)):
         hint = ("int() truncates and loses half a particle per frame on average",
                 "int() truncates and loses half a particle per frame on average: round "
                 "instead (round(y), or at random with floor(y + rng.random()))")
-    ck.expect(abs(got - mean) < 4 * se, f"the mean count over {calls} frames is {mean}",
-              f"it was {got:.3f}", hint=hint)
-    spread, uniform = counts.std(), variance / np.sqrt(3)
-    hint = None
-    if spread < 0.3 * uniform:
-        hint = ("the count hardly varies: is a new random number drawn every frame?",
-                "draw a new count every frame: mean + variance × rng.uniform(-1, 1)")
-    elif abs(spread / uniform - 0.5) < 0.1:
-        hint = "rng.random() spans [0, 1), half of U(-1, 1): the spread is halved"
-    elif spread > uniform:
-        hint = "the spread is uniform, variance × U(-1, 1), with standard deviation variance/√3"
-    ck.expect(abs(spread / uniform - 1) < 0.1, "the count varies from frame to frame as Reeves' rule says",
-              f"its standard deviation was {spread:.2f}; mean + variance × U(-1, 1) gives "
-              f"variance/√3 = {uniform:.2f}", hint=hint)
-    r = np.linalg.norm(pts, axis=1)
-    if not ck.expect(r.max() <= radius * (1 + 1e-12), f"every particle lies on the disc of radius {radius:g}",
-                     f"the farthest was at {r.max():.3f}", hint=_disc_hint(pts, radius)):
+    ck.expect(not bad, f"the mean count over {_FRAMES} frames is the mean asked for ({names})",
+              _which(bad), hint=hint)
+    bad = [(e, f"its standard deviation was {c.std():.2f}; mean + variance × U(-1, 1), rounded, "
+               f"gives {np.sqrt(e[1]**2 / 3 + 1 / 8):.2f}") for e, c, _ in draws
+           if abs(c.std() / np.sqrt(e[1] ** 2 / 3 + 1 / 8) - 1) >= 0.08]
+    ck.expect(not bad, "the count varies from frame to frame as Reeves' rule says", _which(bad),
+              hint=_count_variance_hint(draws))
+    far = [(e, f"the farthest was at {np.hypot(*p.T).max():.3f}", p) for e, _, p in draws
+           if np.hypot(*p.T).max() > e[2] * (1 + 1e-12)]
+    radii = " and ".join(f"{e[2]:g}" for e in EMITTERS)
+    if not ck.expect(not far, f"every particle lies on the disc (R = {radii})",
+                     _which([(e, what) for e, what, _ in far]),
+                     hint=_disc_hint(far[0][2], far[0][0][2]) if far else None):
         return
-    area = (r / radius) ** 2                       # uniform on [0, 1] for a disc sampled right
-    turn = np.mod(np.arctan2(pts[:, 1], pts[:, 0]), 2 * np.pi) / (2 * np.pi)
-    first = _pairs_within_frames(counts)
-    within = max(_dependence(area[first], area[first + 1]), _dependence(turn[first], turn[first + 1]))
-    apart = ck.expect(within < _CHI2_LIMIT,
+    pooled = [(np.linalg.norm(p, axis=1) / e[2], c, p) for e, c, p in draws]
+    area = np.concatenate([(r**2) for r, _, _ in pooled])   # uniform on [0, 1] if sampled right
+    turn = np.concatenate([np.mod(np.arctan2(p[:, 1], p[:, 0]), 2 * np.pi) / (2 * np.pi)
+                           for _, _, p in pooled])
+    counts = np.concatenate([c for _, c, _ in pooled])
+    first = _cases.pairs_within_frames(counts)
+    within = max(_cases.dependence(area[first], area[first + 1]),
+                 _cases.dependence(turn[first], turn[first + 1]))
+    apart = ck.expect(within < _cases.CHI2_LIMIT,
                       f"the particles of a frame are independent of each other ({first.size} pairs)",
                       f"χ² = {within:.0f} on a 4 × 4 table of the radii (or angles) of neighbours in "
-                      f"a frame; independent particles stay below {_CHI2_LIMIT:.0f} in all but one run "
-                      "in a million",
+                      f"a frame; independent particles stay below {_cases.CHI2_LIMIT:.0f} in all but "
+                      "one run in a million",
                       hint=("the particles of one frame depend on each other: does each particle get "
                             "its own random numbers?",
                             "draw the k radii and the k angles at once (rng.random(k)), one of each per "
                             "particle; do not share, sort or space them out"))
-    inner = np.mean(r < radius / 2)
-    se = np.sqrt(0.25 * 0.75 / r.size)
-    hint = None
-    if abs(inner - 0.5) < 4 * np.sqrt(0.25 / r.size):
-        hint = ("r = R u crowds the centre: how does the area within radius r grow with r?",
-                "r = R u crowds the centre: the area within r grows as r², so draw r = R √u "
-                "to give equal areas equal numbers of particles")
-    elif inner < 0.01:
-        hint = ("the particles sit on the rim: that is a ring, not a disc",
-                "the particles sit on the rim: that is a ring, not a disc; draw r = R √u")
+    n_pts = area.size
+    se = np.sqrt(0.25 * 0.75 / n_pts)
+    inner, outer = np.mean(area < 0.25), np.mean(area > 0.81)
+    hint = _radius_hint(draws)
     ck.expect(abs(inner - 0.25) < 4 * se, "a quarter of the particles lie within R/2 (uniform by area)",
               f"the fraction was {inner:.3f}", hint=hint)
-    quadrants = np.array([np.mean((pts[:, 0] > 0) & (pts[:, 1] > 0)),
-                          np.mean((pts[:, 0] < 0) & (pts[:, 1] < 0))])
+    ck.expect(abs(outer - 0.19) < 4 * np.sqrt(0.19 * 0.81 / n_pts),
+              "19 % of the particles lie beyond 0.9 R (uniform by area)", f"the fraction was {outer:.3f}",
+              hint=hint)
+    quadrants = np.array([np.mean((turn > 0) & (turn < 0.25)), np.mean((turn > 0.5) & (turn < 0.75))])
     ck.expect(np.all(np.abs(quadrants - 0.25) < 4 * se), "all directions are equally likely",
               f"fractions in the first and third quadrants: {quadrants.round(3)}",
               hint=("the angle does not cover a full turn evenly",
                     "draw the angle uniformly over a full turn, rng.uniform(0, 2π)"))
-    stat = _dependence(area, turn)
-    ck.expect(stat < _CHI2_LIMIT, "radius and angle are independent (χ² on a 4 × 4 table)",
+    stat = _cases.dependence(area, turn)
+    ck.expect(stat < _cases.CHI2_LIMIT, "radius and angle are independent (χ² on a 4 × 4 table)",
               f"χ² = {stat:.0f} on the table of r²/R² against the angle, with 9 degrees of freedom; "
-              f"independent ones stay below {_CHI2_LIMIT:.0f} in all but one run in a million",
+              f"independent ones stay below {_cases.CHI2_LIMIT:.0f} in all but one run in a million",
               hint=None if not apart else
               ("the radius and the angle move together: are they drawn from the same random numbers?",
                "draw the radii and the angles from separate calls to rng: one u used for "
@@ -186,16 +222,18 @@ def _expire_hint(data: dict, n: int, work: dict, m: int, expected: dict) -> Hint
 @exercise(allow=())
 def expire(ck: Checker, func) -> None:
     """``func(data, n) -> m``: delete the expired among the first ``n`` rows, in place,
-    with no loop over the particles (at most :data:`_EXPIRE_LINES` lines of Python run)."""
+    with no loop over the particles (at most :data:`_EXPIRE_LINES` lines of Python run).
+    Ages are counted (``steps × dt``), so one that has reached its lifetime may lie a unit
+    of round-off below it: the reference is :func:`course_lib.particles.reached`."""
     rng = np.random.default_rng(_SEED)
-    cases = [("9 live of 12 rows, some exactly at their lifetime", 9, 12),
+    cases = [("9 live of 12 rows at 24 frames per second, some exactly at their lifetime", 9, 12),
              ("200 live of 256 rows", 200, 256), ("no live particle", 0, 8)]
     data = _cases.expire_frame(rng, 6, 6)
     data["age"][:] = 0.0
     cases_data = [(what, _cases.expire_frame(rng, n, cap), n) for what, n, cap in cases]
     cases_data.append(("nobody expires", data, 6))
     for what, data, n in cases_data:
-        keep = data["age"][:n] < data["lifetime"][:n]
+        keep = ~particles.reached(data["age"][:n], data["lifetime"][:n])
         expected = {k: v[:n][keep] for k, v in data.items()}   # before the student's code runs
         work = {k: v.copy() for k, v in data.items()}
         arrays = dict(work)
@@ -209,8 +247,8 @@ def expire(ck: Checker, func) -> None:
                       f"on {n} particles: it loops over the particles",
                       hint=("no loop over particles: one boolean mask of the survivors, then one "
                             "gather per array",
-                            "alive = data['age'][:n] < data['lifetime'][:n], then for every array "
-                            "a[:m] = a[:n][alive]"))
+                            "build the mask of the survivors once; then, for every array in data, "
+                            "copy the rows where the mask is True to the front in one operation"))
             continue
         if any(work[k] is not arrays[k] for k in arrays):
             ck.expect(False, what, "your function replaced arrays in `data` by new ones",
@@ -218,7 +256,8 @@ def expire(ck: Checker, func) -> None:
                            "particle system keeps; do not rebind data[k]")
             continue
         if m is None or not np.isscalar(m) or int(m) != m:
-            ck.expect(False, what, f"expected the new live count (an int), got {m!r}",
+            shown = (f"an array of shape {np.shape(m)}" if np.ndim(m) else repr(m))[:80]
+            ck.expect(False, what, f"expected the new live count (an int), got {shown}",
                       hint="return the number of survivors, m")
             continue
         m, survivors = int(m), len(expected["age"])

@@ -21,11 +21,13 @@ TEMPERATURE_COLORS = LinearSegmentedColormap.from_list("fire", [
     (0.0, (0.55, 0.55, 0.55)), (0.12, (0.35, 0.3, 0.3)), (0.3, (0.55, 0.05, 0.0)),
     (0.55, (0.95, 0.35, 0.0)), (0.8, (1.0, 0.75, 0.2)), (1.0, (1.0, 1.0, 0.8))])
 T_RANGE = (300.0, 1600.0)
-#: Colour by age for sparks: pale yellow when young, orange, red, then violet. Inferno
-#: reversed and cut before its black end, so that the oldest sparks stay visible on the
-#: dark background of the side view.
-AGE_CMAP = LinearSegmentedColormap.from_list(
-    "sparks", plt.get_cmap("inferno_r")(np.linspace(0.0, 0.65, 256)))
+#: Colour by age for sparks: pale yellow when young, orange, red, then a light violet when
+#: old: every age stays bright on the dark sky of the Genesis views.
+AGE_CMAP = LinearSegmentedColormap.from_list("sparks", [
+    (0.0, (1.0, 1.0, 0.65)), (0.3, (1.0, 0.65, 0.1)), (0.6, (0.95, 0.25, 0.2)),
+    (1.0, (0.8, 0.55, 1.0))])
+#: Background of the Genesis views (a night sky).
+SKY = "0.12"
 
 
 def oblique(x, elevation: float = 15.0) -> tuple[np.ndarray, np.ndarray]:
@@ -73,26 +75,46 @@ def draw_fountain(snap: dict, restitution: float):
 
 
 def draw_fountain_offset(age: np.ndarray, drop: np.ndarray, predicted: np.ndarray):
-    """Height below the exact parabola against age: measured dots, the formula dashed."""
-    fig, ax = plt.subplots(figsize=(6.5, 3.4))
-    ax.plot(age, 100 * drop, ".", ms=3, color="C0", label="every particle (symplectic Euler)")
+    """Height below the exact parabola against age (the formula as a thin dashed line under
+    the measured dots), and what is left of it once the formula is taken away."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 3.5), constrained_layout=True)
     order = np.argsort(age)
-    ax.plot(age[order], 100 * predicted[order], **EXACT_STYLE, label=r"$\frac{1}{2} g\,dt\,t$")
-    ax.set(xlabel="age t (s)", ylabel="below the parabola (cm)",
-           title="the fountain without a ground, dt = 1/30 s")
-    ax.legend()
+    ax1.plot(age[order], 100 * predicted[order], **{**EXACT_STYLE, "linewidth": 1.0}, zorder=1,
+             label=r"$\frac{1}{2} g\,dt\,t$")
+    ax1.plot(age, 100 * drop, "o", ms=3, mfc="none", mew=0.6, color="C0", zorder=2,
+             label=f"each of {len(age)} drops (symplectic Euler)")
+    ax1.set(xlabel="age t (s)", ylabel="below the parabola (cm)",
+            title="the fountain without a ground, dt = 1/30 s")
+    ax1.legend(loc="upper left")
+    ax2.plot(age, 1e15 * (drop - predicted), ".", ms=3, color="C0")
+    ax2.axhline(0.0, color="0.4", lw=0.8)
+    ax2.set(xlabel="age t (s)", ylabel=r"drop $-\ \frac{1}{2} g\,dt\,t$ ($10^{-15}$ m)",
+            title="what the formula leaves: round-off")
     return fig
 
 
-def draw_population(t, population, expected, *, little=None, title: str = ""):
-    """Live particles per frame beside the exact expectation (and Little's law)."""
-    fig, ax = plt.subplots(figsize=(7.5, 3.4))
-    ax.plot(t, population, color="C0", lw=1, label="measured")
-    ax.plot(t, expected, **EXACT_STYLE, label="expected (exact)")
-    if little is not None:
-        ax.axhline(little, color="C3", lw=1, ls=":", label=f"rate × mean lifetime = {little:g}")
-    ax.set(xlabel="t (s)", ylabel="live particles", title=title, ylim=(0, None))
-    ax.legend(loc="lower right")
+def draw_population(t, population, expected, *, given=None, little=None, title: str = "",
+                    zoom_from: float | None = None):
+    """Live particles per frame beside the exact expectation, the expectation given the
+    counts the run actually emitted (``given``), and Little's law; with ``zoom_from`` (s),
+    a second panel shows the frames from then on at a scale where the curves part."""
+    panels = {"ncols": 1, "figsize": (7.5, 3.5)} if zoom_from is None else \
+        {"ncols": 2, "figsize": (11.0, 3.5), "width_ratios": (1.2, 1.0)}
+    fig, axes = plt.subplots(1, squeeze=False, constrained_layout=True, **panels)
+    for k, ax in enumerate(axes[0]):
+        shown = slice(None) if k == 0 else np.asarray(t) >= zoom_from
+        ax.plot(t[shown], population[shown], color="C0", lw=1, label="measured")
+        ax.plot(t[shown], expected[shown], **EXACT_STYLE, label="expected (exact)")
+        if given is not None:
+            ax.plot(t[shown], given[shown], color="C1", lw=1.2, alpha=0.9,
+                    label="expected, given the counts emitted")
+        if little is not None:
+            ax.axhline(little, color="C3", lw=1, ls=":", label=f"rate × mean lifetime = {little:g}")
+        ax.set(xlabel="t (s)", ylabel="live particles")
+    axes[0, 0].set(title=title, ylim=(0, None))
+    axes[0, 0].legend(loc="lower right")
+    if zoom_from is not None:
+        axes[0, 1].set_title(f"from {zoom_from:g} s on, enlarged")
     return fig
 
 
@@ -105,7 +127,8 @@ def draw_fire(snap: dict, ambient: float = 300.0, tau: float = 0.4, t0: float = 
     ax1.set_facecolor("0.08")
     sc = ax1.scatter(x[:, 0], x[:, 1], c=temp, cmap=TEMPERATURE_COLORS, vmin=T_RANGE[0],
                      vmax=T_RANGE[1], s=14, alpha=0.5, linewidths=0)
-    fig.colorbar(sc, ax=ax1, label="temperature (K)", pad=0.02)
+    fig.colorbar(sc, ax=ax1, label="temperature (K)", orientation="horizontal", location="bottom",
+                 shrink=0.9, aspect=30)
     ax1.set(xlabel="x (m)", ylabel="height y (m)", aspect="equal", xlim=(-1.0, 1.0),
             title=f"{len(temp)} particles")
     ax1.grid(False)
@@ -125,13 +148,16 @@ def draw_genesis(snap: dict, radius: float):
     x, age = snap["x"], snap["age"]
     order = np.argsort(-age)
     kw = dict(c=age[order], cmap=AGE_CMAP, vmin=0.0, vmax=1.6, s=3, linewidths=0)
+    ax1.set_facecolor(SKY)
+    ax1.grid(False)
     ax1.scatter(x[order, 0], x[order, 2], **kw)
     phi = np.linspace(0, 2 * np.pi, 200)
-    ax1.plot(radius * np.cos(phi), radius * np.sin(phi), **EXACT_STYLE, label="front R(t)")
+    ax1.plot(radius * np.cos(phi), radius * np.sin(phi), color="white", lw=0.8, ls="--", alpha=0.6,
+             label="front R(t)")
     ax1.set(xlabel="x (m)", ylabel="z (m)", aspect="equal", title="from above")
-    ax1.legend(loc="upper right", fontsize=8)
+    ax1.legend(loc="upper right", fontsize=8, facecolor="0.3", labelcolor="white", edgecolor="none")
     sx, sy = oblique(x[order])
-    ax2.set_facecolor("0.16")
+    ax2.set_facecolor(SKY)
     ax2.grid(False)
     sc = ax2.scatter(sx, sy, **kw)
     ax2.set(xlabel="x (m)", ylabel="screen height (m)", aspect="equal",
@@ -146,7 +172,7 @@ def animate_genesis(snaps: dict, dt: float, extent: float = 4.5):
 
     keys = sorted(snaps)
     fig, ax = plt.subplots(figsize=(4.4, 3.0))
-    ax.set_facecolor("0.1")
+    ax.set_facecolor(SKY)
     ax.grid(False)
     sc = ax.scatter([], [], s=2, c=[], cmap=AGE_CMAP, vmin=0.0, vmax=1.6, linewidths=0)
     ax.set(xlim=(-extent, extent), ylim=(-0.3 * extent, 0.7 * extent),
