@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from notebook_helpers import printed_holds
 
 from course_lib import cloth as C
 from course_lib import springs
@@ -38,6 +39,23 @@ def test_explicit_limit_predicted_and_measured(hang):
     assert 1 - measured / limit < 0.0003                                  # "to 0.03 %"
     assert int(np.ceil(1 / (30 * limit))) == 23
     assert 1 / (30 * 23) < limit < 1 / (30 * 22)
+    # the endless sheet's zigzag, ω² = 4(k + k_shear)/m: 1378.7 rad/s, ours 0.9 % slower
+    k, k_shear = (hang.network.select(kind).k[0] for kind in ("struct", "shear"))
+    endless = np.sqrt(4 * (k + k_shear) / hang.mass[0])
+    assert f"{endless:.1f}" == "1378.7" and f"{100 * (1 - omega / endless):.1f}" == "0.9"
+    assert omega < endless                                              # "a little slower"
+    # the zigzag is a mode of the endless sheet: on a periodic grid (no edges), alternate
+    # particles along x moving ±x are an eigenvector of M⁻¹K with eigenvalue 4(k + k_shear)/m
+    n = 8
+    x0, net = springs.cloth_grid(n, n, 0.05, k, k_shear, hang.network.select("bend").k[0])
+    d = x0[net.j] - x0[net.i]
+    inside = np.abs(d).max(axis=1) < 0.11                              # springs that do not wrap
+    K = np.asarray(springs.stiffness_matrix(net, x0))
+    zig = np.zeros_like(x0)
+    zig[:, 0] = np.where((np.arange(n * n) % n) % 2 == 0, 1.0, -1.0)   # ±x by column parity
+    centre = [r * n + c for r in range(2, n - 2) for c in range(2, n - 2)]   # all springs present
+    force = -(K @ zig.ravel()).reshape(-1, 3)
+    assert inside.all() and np.allclose(force[centre], -4 * (k + k_shear) * zig[centre], rtol=1e-12)
 
 
 @pytest.mark.roundoff
@@ -123,8 +141,12 @@ def test_when_large_steps_pay(study):
     assert [r["substeps"] for r in study] == [37, 117, 369]
     assert [f"{r['limit'] * 1e3:.3f}" for r in study] == ["1.005", "0.318", "0.101"]
     explicit = [f"{100 * r['explicit_strain'].max():.2f}" for r in study]
-    implicit = [f"{100 * r['implicit_strain'].max():.1f}" for r in study]
-    assert explicit == ["7.83", "0.86", "0.15"] and implicit == ["7.1", "12.6", "16.6"]
+    assert explicit == ["7.83", "0.86", "0.15"]
+    # the implicit peaks hang on CG's tolerance and iteration count, which another rounding
+    # moves (measured: a 1e-13 m nudge of one particle moves the peak at 30,000 N/m by 0.04
+    # points, and a frame's strain by up to 0.4): printed without decimals, checked with that spread
+    for r, text in zip(study, ("7", "13", "17"), strict=True):
+        printed_holds(100 * r["implicit_strain"].max(), ".0f", text, 0.1)
     # orderings the prose draws: stiffer cloth, less stretch explicitly, more implicitly
     se = [r["explicit_strain"].max() for r in study]
     bw = [r["implicit_strain"].max() for r in study]
@@ -136,27 +158,64 @@ def test_when_large_steps_pay(study):
     assert all(r["implicit_strain"][1] == pytest.approx(pin, rel=1e-6) for r in study)
     assert all(int(np.argmax(r["implicit_strain"])) <= 3 for r in study[1:])   # "in the first frames"
     # "the next one or two steps stretch the cloth further, to 7 %, 13 % and 17 %, before the
-    # strain falls back"; the printed frames 1 to 5 (one decimal, in percent)
+    # strain falls back"; the printed frames 1 to 3 (no decimals, in percent; frames 4 and 5
+    # are not printed: at 30,000 N/m another rounding moves frame 4 by 0.4 points)
     peaks = [100 * r["implicit_strain"][2:4].max() for r in study]
     assert [f"{p:.0f}" for p in peaks] == ["7", "13", "17"]
     assert all(r["implicit_strain"][5] < r["implicit_strain"][2:4].max() for r in study)
-    values = 100 * np.array([r["implicit_strain"][1:6] for r in study])
-    assert np.all(np.abs(values - np.round(values) - 0.5 * np.sign(values - np.round(values))) > 0.04)
-    assert [[f"{v:.0f}" for v in row] for row in values] == [["2", "7", "5", "5", "6"],
-                                                          ["2", "8", "13", "10", "5"],
-                                                          ["2", "9", "17", "2", "1"]]
+    values = 100 * np.array([r["implicit_strain"][1:4] for r in study])
+    printed = [["2", "7", "5"], ["2", "8", "13"], ["2", "9", "17"]]
+    spread = [[0.05] * 3, [0.05, 0.05, 0.05], [0.05, 0.05, 0.1]]
+    for row, texts, spreads in zip(values, printed, spread, strict=True):
+        for v, text, s in zip(row, texts, spreads, strict=True):
+            printed_holds(v, ".0f", text, s)
     # the same damping coefficient on every spring: 10, 32 and 71 % of each family's critical
     c = nb11.hanging(damping_ratio=0.1)
     m = c.mass[0]
     ratios = [c.network.select(kind).c[0] / (2 * np.sqrt(c.network.select(kind).k[0] * m))
               for kind in ("struct", "shear", "bend")]
     assert [f"{100 * z:.0f}" for z in ratios] == ["10", "32", "71"]
-    # CG iterations per frame "about 100, 230 and 380" (bounded, not pinned)
-    for r, quoted in zip(study, (100, 230, 380), strict=True):
-        assert 0.85 * quoted <= r["iterations"] <= 1.15 * quoted
+    # CG iterations per frame "about 100, 200 and 400" (printed rounded to hundreds): another
+    # rounding moves the mean by up to 0.3, 2 and 23 per frame (measured with nudges of
+    # 1e-15 to 1e-9 m: 94.95-95.25, 224.5-227.65, 379.65-402.5)
+    # (spreads: the largest deviation measured, 0.3, 2 and 23, with room to spare)
+    for r, text, s in zip(study, ("1", "2", "4"), (1.0, 5.0, 25.0), strict=True):
+        printed_holds(r["iterations"] / 100, ".0f", text, s / 100)
+    # "about two and a half and about two times as many passes ... and at 30,000 N/m about as many"
+    work = [r["iterations"] / r["substeps"] for r in study]
+    assert 2.3 < work[0] < 2.8 and 1.8 < work[1] < 2.2 and 0.9 < work[2] < 1.2
+    assert 0.9 < 402.5 / study[2]["substeps"] < 1.2             # the worst second rounding measured
     # the damped limit is below the undamped one (notebook 07's ω²dt² + 2(c/m)dt < 4)
     _, undamped = nb11.frequency_and_limit(nb11.hanging())
     assert study[0]["limit"] < undamped
+
+
+def test_the_damped_bisection_is_slightly_optimistic(study):
+    """Section 4: "the spectral radius of the damped step puts the limit of our cloth 0.25 %
+    lower, at 1.0026 ms instead of 1.005 ms". The linearized damped symplectic Euler step
+    about the rest shape, x' = x + dt v', v' = v - dt M⁻¹(K x + C v), is stable while its
+    spectral radius stays 1 (the flat sheet's zero-stiffness modes sit at exactly 1)."""
+    c = nb11.hanging(damping_ratio=0.1)
+    free = np.setdiff1d(np.arange(c.n), c.pinned)
+    dofs = (free[:, None] * 3 + np.arange(3)).ravel()
+    K = np.asarray(springs.stiffness_matrix(c.network, c.x0))[np.ix_(dofs, dofs)]
+    damping = -springs.jacobian_v(c.network, c.x0).toarray()[np.ix_(dofs, dofs)]
+    inv_m = 1.0 / np.repeat(c.mass[free], 3)[:, None]
+    eye = np.eye(len(dofs))
+
+    def radius(dt):
+        a, b = eye - dt * inv_m * damping, -dt * inv_m * K
+        return np.abs(np.linalg.eigvals(np.block([[eye + dt * b, dt * a], [b, a]]))).max()
+
+    lo, hi = 0.99e-3, 1.01e-3
+    assert radius(lo) < 1 + 1e-6 < radius(hi)
+    for _ in range(14):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if radius(mid) < 1 + 1e-6 else (lo, mid)
+    assert f"{lo * 1e3:.4f}" == "1.0026" and hi - lo < 2e-9
+    bisected = study[0]["limit"]
+    assert f"{bisected * 1e3:.3f}" == "1.005" and f"{100 * (bisected / lo - 1):.2f}" == "0.25"
+    assert 0.9 * bisected < lo                                   # harmless at 90 %
 
 
 @pytest.fixture(scope="module")
@@ -182,11 +241,14 @@ def test_numerical_damping_numbers(hang, implicit_30, rest):
             "bw120": C.simulate(hang, "baraff_witkin", frames=60, substeps=4)}
     change = {k: (lambda t: (t - t[0]) / released)(C.energies(hang, r.x, r.v)["total"])
               for k, r in runs.items()}
-    quoted = {"se": ("-0.00", "+0.01", "0.02"), "bw30": ("-0.94", "-0.99", "0.99"),
+    quoted = {"se": ("+0.00", "+0.01", "0.02"), "bw30": ("-0.94", "-0.99", "0.99"),
               "bw120": ("-0.51", "-0.77", "0.77")}
     for k, (one, two, worst) in quoted.items():
         e = change[k]
-        assert (f"{e[30]:+.2f}", f"{e[60]:+.2f}", f"{np.abs(e).max():.2f}") == (one, two, worst)
+        shown = np.round(e, 2) + 0.0                    # as the notebook prints: no "-0.00"
+        assert (f"{shown[30]:+.2f}", f"{shown[60]:+.2f}", f"{np.abs(shown).max():.2f}") == (one, two, worst)
+        for value in (e[30], e[60], np.abs(e).max()):   # a second rounding moves these by < 1e-4
+            assert abs(abs(value * 100 - np.round(value * 100)) - 0.5) > 0.01
     assert np.abs(change["se"]).max() < 0.02                                 # "within 2 %"
     # four steps per frame: √κ grows as h, so the iterations grow far less than the steps
     k120 = nb11.condition_numbers(hang, 1 / 120)
@@ -194,11 +256,17 @@ def test_numerical_damping_numbers(hang, implicit_30, rest):
     assert f"{k120['jacobi']:.0f}" == "117" and f"{np.sqrt(k120['jacobi']):.1f}" == "10.8"
     assert f"{np.sqrt(k30['jacobi']):.1f}" == "35.1"
     assert k120["kappa"] - 1 == pytest.approx((k30["kappa"] - 1) / 16, rel=1e-9)   # κ - 1 = h²ω²
-    ratio = runs["bw120"].iterations.sum() / implicit_30.iterations.sum()
-    assert f"{ratio:.1f}" == "1.6" and 1.5 < ratio < 1.7                     # "1.6 times", not 4
+    # "about 6.0 and 9.3 thousand CG iterations in all: about one and a half times as many":
+    # another rounding moves the totals by a few iterations (measured with nudges of 1e-13 to
+    # 1e-9 m: 5979-5987 and 9308-9312), so 30 iterations of spread
+    total30, total120 = implicit_30.iterations.sum(), runs["bw120"].iterations.sum()
+    printed_holds(total30 / 1e3, ".1f", "6.0", 0.03)
+    printed_holds(total120 / 1e3, ".1f", "9.3", 0.03)
+    assert 1.4 < total120 / total30 < 1.7                                    # not 4 times
     assert change["bw30"][60] > -1.0                                         # above the minimum
     kinetic = C.energies(hang, implicit_30.x, implicit_30.v)["kinetic"] / released
-    assert np.all(kinetic[30:] < 0.05) and np.all(kinetic[45:] < 0.02)
+    # "below 6 % from 1 s on, below 2 % from 1.5 s on" (5 % would sit on a swing's peak, 4.996 %)
+    assert kinetic[30:].max() < 0.06 - 0.005 and kinetic[45:].max() < 0.02 - 0.003
     # every state of every run lies above the rest energy (it is the minimum)
     for r in runs.values():
         potential = C.energies(hang, r.x, np.zeros_like(r.v))["total"]
@@ -343,6 +411,12 @@ LIMIT_PLANTED = {
     "no square root": (lambda K, m: _limit(K, m, root=False), "incorrect", "not ω"),
     "1/ω": (lambda K, m: _limit(K, m, two=1.0), "incorrect", "the stability condition"),
     "np.tile": (lambda K, m: _limit(K, m, layout=np.tile), "incorrect", "three rows in a row"),
+    # M⁻¹K is not symmetric with unequal masses; eigvalsh reads one triangle of it
+    "eigvalsh of M⁻¹K": (lambda K, m: 2 / np.sqrt(np.linalg.eigvalsh(K / np.repeat(m, 3)[:, None]).max()),
+                         "incorrect", "M⁻¹K is not symmetric"),
+    "eigvals of M⁻¹K (fine)": (
+        lambda K, m: 2 / np.sqrt(np.linalg.eigvals(K / np.repeat(m, 3)[:, None]).real.max()),
+        "correct", None),
 }
 
 
@@ -365,11 +439,43 @@ def bw_velocity_change(mass, dFdx, dFdv, F0, v0, h):
 
 SOLVE_PLANTED = {
     "right": (_solve_source(), "correct", None),
-    "a dense solve is fine too": ((
+    # the prompt asks for conjugate gradients: a direct solve is refused, dense or sparse
+    "a dense solve (refused: not CG)": ((
         "def bw_velocity_change(mass, dFdx, dFdv, F0, v0, h):\n"
         "    A = np.diag(np.repeat(mass, 3)) - h * dFdv.toarray() - h * h * dFdx.toarray()\n"
         "    b = h * (F0.ravel() + h * (dFdx @ v0.ravel()))\n"
-        "    return np.linalg.solve(A, b).reshape(v0.shape)", "bw_velocity_change"), "correct", None),
+        "    return np.linalg.solve(A, b).reshape(v0.shape)", "bw_velocity_change"), "incorrect",
+        "refuses numpy.linalg.solve"),
+    "spsolve (refused: not CG)": ((
+        "def bw_velocity_change(mass, dFdx, dFdv, F0, v0, h):\n"
+        "    A = scipy.sparse.diags(np.repeat(mass, 3)) - h * dFdv - h * h * dFdx\n"
+        "    b = h * (F0.ravel() + h * (dFdx @ v0.ravel()))\n"
+        "    return scipy.sparse.linalg.spsolve(A.tocsc(), b).reshape(v0.shape)", "bw_velocity_change"),
+        "incorrect", "spsolve"),
+    "splu imported inside the function (refused)": ((
+        "def bw_velocity_change(mass, dFdx, dFdv, F0, v0, h):\n"
+        "    from scipy.sparse.linalg import splu\n"
+        "    A = scipy.sparse.diags(np.repeat(mass, 3)) - h * dFdv - h * h * dFdx\n"
+        "    b = h * (F0.ravel() + h * (dFdx @ v0.ravel()))\n"
+        "    return splu(A.tocsc()).solve(b).reshape(v0.shape)", "bw_velocity_change"),
+        "incorrect", "uses the reference"),
+    "CG with a Jacobi preconditioner (fine)": ((
+        "def bw_velocity_change(mass, dFdx, dFdv, F0, v0, h):\n"
+        "    A = (scipy.sparse.diags(np.repeat(mass, 3)) - h * dFdv - h * h * dFdx).tocsr()\n"
+        "    b = h * (F0.ravel() + h * (dFdx @ v0.ravel()))\n"
+        "    jacobi = scipy.sparse.diags(1 / A.diagonal())\n"
+        "    dv, info = scipy.sparse.linalg.cg(A, b, rtol=1e-10, M=jacobi, maxiter=10 * b.size)\n"
+        "    return dv.reshape(v0.shape)", "bw_velocity_change"), "correct", None),
+    "CG written out by hand (fine)": ((
+        "def bw_velocity_change(mass, dFdx, dFdv, F0, v0, h):\n"
+        "    A = (scipy.sparse.diags(np.repeat(mass, 3)) - h * dFdv - h * h * dFdx).tocsr()\n"
+        "    b = h * (F0.ravel() + h * (dFdx @ v0.ravel()))\n"
+        "    x = np.zeros_like(b)\n    r = b.copy()\n    p = r.copy()\n    rr = r @ r\n"
+        "    while np.sqrt(rr) > 1e-12 * np.linalg.norm(b):\n"
+        "        q = A @ p\n        a = rr / (p @ q)\n        x += a * p\n        r -= a * q\n"
+        "        rr, old = r @ r, rr\n        p = r + rr / old * p\n"
+        "    return x.reshape(v0.shape)", "bw_velocity_change"), "correct", None),
+    "a flat (3N,) answer": (_solve_source(result="dv"), "incorrect", "with the shape of v0"),
     "delegates to the library": ((
         "def bw_velocity_change(mass, dFdx, dFdv, F0, v0, h):\n"
         "    raise ValueError(cl.baraff_witkin.BaraffWitkin)", "bw_velocity_change"),
@@ -432,12 +538,26 @@ STRAIN_PLANTED = {
     "clamped at 0 (broken by a cloth compressed everywhere)": (
         _strain_source("max(0.0, float(np.max((length - rest) / rest)))"), "incorrect",
         "a strain can be negative"),
+    # the review's two: rest lengths from frame 0 (was told "without clamping it at 0"), and
+    # one rest length for all (had no hint)
+    "lengths of the first frame as rest lengths": (
+        _strain_source("float(np.max((length - length[0]) / length[0]))"), "incorrect",
+        "`rest` is given"),
+    "rest[0] for every spring (broken by every spring family)": (
+        _strain_source("float(np.max((length - rest[0]) / rest[0]))"), "incorrect",
+        "each spring has its own rest length, rest[s]"),
 }
+
+#: Hints that name one mistake each: no planted answer may get another's.
+STRAIN_AVOID = {"lengths of the first frame as rest lengths": "clamping",
+                "clamped at 0 (broken by a cloth compressed everywhere)": "`rest` is given"}
 
 
 @pytest.mark.parametrize("planted", sorted(STRAIN_PLANTED))
 def test_check_peak_strain_planted(planted):
-    _planted(check.peak_strain, STRAIN_PLANTED, planted)
+    messages = _planted(check.peak_strain, STRAIN_PLANTED, planted)
+    if planted in STRAIN_AVOID:
+        assert STRAIN_AVOID[planted] not in messages, messages
 
 
 def test_hints_escalate_and_blank_answers_are_pending():

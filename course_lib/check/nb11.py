@@ -6,18 +6,22 @@ exercise is about, and :class:`~course_lib.baraff_witkin.BaraffWitkin`, which th
 is about, are refused like every other library function; SciPy's ``cg`` is fine. A failure
 is reported in one line (the largest difference and where), and a hint names a mistake
 only when the answer is what that mistake gives: a clamped sideways term, 1 - ℓ/L, d for
-u, a block scaled by the strain (Exercise 1); one mass for all (2); the leading h missing
-from b, or a solve that leaves a residual (3, judged on the answer's own residual); ℓ/L,
-the first or the last frame, one rest length for all, a clamp at 0 (4).
+u, a block scaled by the strain (Exercise 1); one mass for all, or eigvalsh on the
+non-symmetric M⁻¹K (2); the leading h missing from b, or a solve that leaves a residual
+(3, judged on the answer's own residual; direct solvers are refused, the exercise is
+conjugate gradients, and Δv has the shape of v0); ℓ/L, the first or the last frame, one
+rest length for all, lengths measured from the first frame, a clamp at 0 (4).
 """
 
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse.linalg
 
-from .. import cloth, springs
+from .. import springs
 from ..baraff_witkin import BaraffWitkin
 from . import Checker, Hint, exercise
+from . import _nb11_cases as _cases
 
 _SEED = 1111
 
@@ -58,14 +62,6 @@ def _judge(ck: Checker, got, expected, what: str, *, rtol: float, atol: float,
     return ck.expect(False, what, f"{int(np.sum(excess > 0))} of {e.size} entries differ; the largest "
                      f"difference, {abs(a[at] - e[at]):.2g}{unit}, is at [{where}]: expected "
                      f"{e[at]:.6g}, got {a[at]:.6g}", hint)
-
-
-def _spring_cases():
-    rng = np.random.default_rng(_SEED)
-    yield "a stretched spring", rng.normal(size=3), 50.0, 0.4
-    yield "a compressed spring", rng.normal(size=3), 120.0, 3.0
-    for n in range(2):
-        yield f"a random spring ({n + 1})", rng.normal(size=3), float(rng.uniform(10, 500)), 1.0
 
 
 def _jacobian_mistakes(d, k, rest, expected) -> dict:
@@ -114,7 +110,7 @@ _CLOSE_FORM = ("close, but not exact: is it a finite difference? The check wants
 def spring_jacobian(ck: Checker, func) -> None:
     """``func(xi, xj, k, rest) -> (3, 3)``: ``∂F_i/∂x_i`` of one Hooke spring."""
     rng = np.random.default_rng(_SEED + 1)
-    for what, d, k, rest in _spring_cases():
+    for what, d, k, rest in _cases.spring_cases():
         xj = rng.normal(size=3)
         xi = xj + d
         net = springs.SpringNetwork([0], [1], [rest], [k], [0.0], 2)
@@ -139,20 +135,10 @@ def spring_jacobian(ck: Checker, func) -> None:
            hint=_CLOSE_FORM if nearly else "each term, u uᵀ and I - u uᵀ, is symmetric")
 
 
-def _limit_cases():
-    rng = np.random.default_rng(_SEED + 2)
-    c = cloth.sheet(n=5, size=0.3, total_mass=0.02, k_struct=200.0)
-    yield "5 × 5 cloth, equal masses", c, c.mass
-    yield "5 × 5 cloth, masses from 0.3 to 3 g", c, rng.uniform(3e-4, 3e-3, c.n)
-    x0, strand = springs.hair_chain(n=8, length=0.2, k_edge=900.0, k_bend=30.0)
-    chain = cloth.Cloth(x0, strand, np.full(8, 1e-3), np.array([0]), (1, 8))
-    yield "8-particle strand, root pinned, masses from 0.5 to 2 g", chain, rng.uniform(5e-4, 2e-3, 8)
-
-
 @exercise(allow=())
 def explicit_limit(ck: Checker, func) -> None:
     """``func(K, mass) -> dt_max``: symplectic Euler's limit from a stiffness matrix."""
-    for what, c, mass in _limit_cases():
+    for what, c, mass in _cases.limit_cases():
         free = np.setdiff1d(np.arange(c.n), c.pinned)
         dofs = (free[:, None] * 3 + np.arange(3)).ravel()
         K = springs.stiffness_matrix(c.network, c.x0)[np.ix_(dofs, dofs)]
@@ -176,8 +162,14 @@ def explicit_limit(ck: Checker, func) -> None:
              "each particle owns three rows in a row (x, y, z): np.repeat(mass, 3), not np.tile"):
                 2.0 / np.sqrt(np.linalg.eigvalsh(K / np.sqrt(np.outer(tiled, tiled))).max()),
         }
+        one_sided = ("M⁻¹K is not symmetric when the masses differ, and eigvalsh reads only one "
+                     "triangle of a matrix: it returns the eigenvalues of another matrix",
+                     "scale the rows and the columns alike, by 1/√m each: M^(-1/2) K M^(-1/2) is "
+                     "symmetric and has the eigenvalues of M⁻¹K")
         pairs = [*mistakes.items(), *((one_mass, 2.0 / np.sqrt(np.linalg.eigvalsh(K).max() / m_one))
-                                      for m_one in (m.mean(), m.max(), m.min()))]
+                                      for m_one in (m.mean(), m.max(), m.min())),
+                 (one_sided, 2.0 / np.sqrt(np.linalg.eigvalsh(K / m3[:, None]).max())),
+                 (one_sided, 2.0 / np.sqrt(np.linalg.eigvalsh(K / m3[None, :]).max()))]
         pairs = [(h, w) for h, w in pairs if not np.isclose(w, expected, rtol=1e-8)]
         got = func(K.copy(), m.copy())
         _judge(ck, got, expected, f"{what}: {K.shape[0]} unknowns", rtol=1e-8, atol=0.0,
@@ -189,29 +181,19 @@ def explicit_limit(ck: Checker, func) -> None:
 # --- one Baraff-Witkin solve ------------------------------------------------------------
 
 
-def _solve_cases():
-    """Small cloths in stretched, crumpled states with velocities: undamped, damped,
-    unequal masses, stiff."""
-    rng = np.random.default_rng(_SEED + 3)
-    for what, k, c, masses, speed in [
-            ("4 × 4 cloth, undamped, at rest", 200.0, 0.0, "equal", 0.0),
-            ("4 × 4 cloth, undamped, moving", 200.0, 0.0, "equal", 0.3),
-            ("4 × 4 cloth, damped (c = 0.5 N s/m), moving", 200.0, 0.5, "equal", 0.3),
-            ("5 × 5 cloth, damped, masses from 1 to 5 g, moving", 300.0, 0.2, "unequal", 0.5),
-            ("5 × 5 stiff cloth (k = 30000 N/m), damped, moving", 30000.0, 1.0, "unequal", 0.5)]:
-        n = 4 if what.startswith("4") else 5
-        sheet = cloth.sheet(n=n, size=0.3, total_mass=0.02, k_struct=k, c=c, pinned="none")
-        x = sheet.x0 * 1.08 + 0.004 * rng.normal(size=sheet.x0.shape)     # stretched, crumpled
-        v = speed * rng.normal(size=x.shape)
-        mass = sheet.mass if masses == "equal" else rng.uniform(1e-3, 5e-3, sheet.n)
-        yield what, sheet.network, x, v, mass
+#: Direct solvers, refused in the Baraff-Witkin solve: the exercise is conjugate gradients
+#: (a factorization is exact here, but it is not what the prompt asks, nor what scales).
+DIRECT_SOLVERS = ("scipy.sparse.linalg._dsolve", "scipy.linalg", scipy.sparse.linalg.spsolve,
+                  scipy.sparse.linalg.splu, scipy.sparse.linalg.factorized, np.linalg.solve,
+                  np.linalg.inv, np.linalg.lstsq, np.linalg.pinv, np.linalg.tensorsolve)
 
 
-@exercise(allow=())
+@exercise(allow=(), forbid=DIRECT_SOLVERS)
 def bw_velocity_change(ck: Checker, func) -> None:
-    """``func(mass, dFdx, dFdv, F0, v0, h) -> (N, 3)``: Δv of one Baraff-Witkin step."""
+    """``func(mass, dFdx, dFdv, F0, v0, h) -> (N, 3)``: Δv of one Baraff-Witkin step, by
+    conjugate gradients (direct solvers are refused, :data:`DIRECT_SOLVERS`)."""
     h = 1.0 / 30.0
-    for what, net, x, v, mass in _solve_cases():
+    for what, net, x, v, mass in _cases.solve_cases():
         dFdx, dFdv = springs.jacobian_x(net, x).tocsr(), springs.jacobian_v(net, x).tocsr()
         F0 = net.forces(x, v).copy()
         # the exact linearization (definite=False keeps every geometric term), solved tightly
@@ -251,8 +233,12 @@ def bw_velocity_change(ck: Checker, func) -> None:
         except (TypeError, ValueError):
             ck.expect(False, what, f"expected an array of shape {x.shape}, got {type(got).__name__}")
             continue
-        if got.shape == (x.size,):
-            got = got.reshape(x.shape)
+        if got.shape != x.shape and got.size == x.size:
+            ck.expect(False, what, f"expected Δv of shape {x.shape}, like v0, got shape {got.shape}",
+                      hint=("return Δv with the shape of v0: one row per particle",
+                            "CG works on flat vectors of 3N coordinates: reshape its answer with "
+                            "dv.reshape(v0.shape)"))
+            continue
         scale = np.abs(expected).max()
         A = np.diag(m3) - h * dense_v - h * h * dense_x
         residual = (np.linalg.norm(h * right - A @ got.ravel()) / np.linalg.norm(h * right)
@@ -270,35 +256,10 @@ def bw_velocity_change(ck: Checker, func) -> None:
 # --- the peak stretch of a run --------------------------------------------------------------
 
 
-def _strain_cases():
-    """Runs of small cloths: a stretch early and a larger compression late (the largest
-    strain, not |strain|, and not the last frame), a wandering cloth, a falling one, every
-    spring family at once (rest lengths 5, 7 and 10 cm: one rest length will not do), and a
-    cloth shrunk in every frame (every strain negative: the largest is still a strain)."""
-    rng = np.random.default_rng(_SEED + 4)
-    sheet = cloth.sheet(n=4, size=0.3, total_mass=0.02)
-    struct = sheet.network.select("struct")
-    frames = np.repeat(sheet.x0[None], 5, axis=0)
-    frames[2, 5] += [0.0, 0.0, 0.012]                  # a stretch in the middle of the run
-    frames[4, 9] += [0.0, 0.0, -0.03]                  # a larger compression at the end
-    yield "a 4 × 4 cloth: stretched at frame 2, compressed more at frame 4", frames, struct
-    drift = sheet.x0[None] + np.cumsum(0.002 * rng.normal(size=(40, *sheet.x0.shape)), axis=0)
-    yield "a 4 × 4 cloth wandering for 40 frames", drift, struct
-    big = cloth.sheet(n=8, size=0.5, total_mass=0.05)
-    run = cloth.simulate(big, "symplectic_euler", frames=12, substeps=40)
-    yield "an 8 × 8 cloth falling for 12 frames", run.x, big.network.select("struct")
-    wide = cloth.sheet(n=5, size=0.2, total_mass=0.02)
-    wobble = wide.x0[None] + np.cumsum(0.001 * rng.normal(size=(12, *wide.x0.shape)), axis=0)
-    wobble[0, 12] += [0.004, 0.0, 0.0]                 # the first frame stretches the most
-    yield "a 5 × 5 cloth, every spring family (rest lengths 5 to 10 cm)", wobble, wide.network
-    shrink = sheet.x0[None] * np.linspace(0.97, 0.9, 6)[:, None, None]
-    yield "a 4 × 4 cloth shrinking: every spring compressed in every frame", shrink, struct
-
-
 @exercise(allow=())
 def peak_strain(ck: Checker, func) -> None:
     """``func(x, i, j, rest) -> float``: the largest ``(ℓ - L)/L`` over frames and springs."""
-    for what, x, s in _strain_cases():
+    for what, x, s in _cases.strain_cases():
         length = np.linalg.norm(x[:, s.j] - x[:, s.i], axis=-1)        # (frames, springs)
         strain = (length - s.rest) / s.rest
         expected = float(strain.max())
@@ -318,6 +279,14 @@ def peak_strain(ck: Checker, func) -> None:
              float((length / s.rest).max())),
             (("each spring has its own rest length", "divide by rest[s] of each spring, not one "
               "rest length for all"), float(((length - s.rest.mean()) / s.rest.mean()).max())),
+            (("each spring has its own rest length, rest[s]: the springs of a cloth differ (shear "
+              "springs are √2 times longer, bend springs twice)", "compare each spring's length "
+              "with its own rest length rest[s], not with rest[0]"),
+             float(((length - s.rest[0]) / s.rest[0]).max())),
+            (("`rest` is given: strain is measured from the rest length, not from the first "
+              "frame's lengths", "(ℓ - L)/L with L = rest[s]: a cloth can be stretched or "
+              "compressed already in the first frame"),
+             float(((length - length[0]) / length[0]).max())),
             (("a strain is a fraction", "return the fraction (0.05), not the percentage (5)"),
              100 * expected),
             (("the largest over the springs, not their mean", "np.max over frames and springs"),

@@ -67,24 +67,26 @@ def _sphere_and_ground(ax, radius, extent):
 def draw_cloth_frames(runs: dict, shape, frames, *, sphere: float | None = None, pinned=(),
                       xlim=(-0.55, 0.55), ylim=(-0.75, 0.3)):
     """Wireframes of cloth runs at some frames: one row per run (``label -> ClothRun``),
-    one column per frame, in an oblique view (20° above, turned 30°); ``pinned``
-    particles are marked."""
-    fig, axes = plt.subplots(len(runs), len(frames), figsize=(2.7 * len(frames), 2.7 * len(runs)),
+    one column per frame (the same frames in every row, so the rows compare at a glance),
+    in an oblique view (20° above, turned 30°); ``pinned`` particles are marked. Each row
+    is labelled at its left, each column by its time at the top."""
+    fig, axes = plt.subplots(len(runs), len(frames), figsize=(3.0 * len(frames), 3.1 * len(runs)),
                              squeeze=False, constrained_layout=True)
-    for row, (label, run) in zip(axes, runs.items(), strict=True):
+    for r, (row, (label, run)) in enumerate(zip(axes, runs.items(), strict=True)):
         for ax, f in zip(row, frames, strict=True):
             if sphere is not None:
                 _sphere_and_ground(ax, sphere, 0.6)
             if np.all(np.isfinite(run.x[f])):
-                ax.add_collection(LineCollection(_mesh(run.x[f], shape), colors="C0", lw=0.6))
+                ax.add_collection(LineCollection(_mesh(run.x[f], shape), colors="C0", lw=0.7))
                 if len(pinned):
-                    ax.plot(*project(run.x[f][list(pinned)]).T, "o", color="black", ms=4)
+                    ax.plot(*project(run.x[f][list(pinned)]).T, "o", color="black", ms=5)
             else:
                 ax.text(0.5, 0.5, "blown up", ha="center", transform=ax.transAxes, color="C3")
-            ax.set(xlim=xlim, ylim=ylim, aspect="equal", title=f"{label}, t = {run.t[f]:.2f} s")
-            ax.title.set_fontsize(9)
+            ax.set(xlim=xlim, ylim=ylim, aspect="equal")
+            if r == 0:
+                ax.set_title(f"t = {run.t[f]:.2f} s", fontsize=12)
             ax.tick_params(labelsize=8)
-        row[0].set_ylabel("screen height (m)")
+        row[0].set_ylabel(f"{label}\nscreen height (m)", fontsize=11)
     for ax in axes[-1]:
         ax.set_xlabel("screen x (m)")
     return fig
@@ -105,19 +107,21 @@ def draw_energy(t, totals: dict, released: float):
 
 
 def draw_large_steps(rows, fps: float = 30.0):
-    """Peak structural strain per frame of both methods, one panel per stiffness, and the
-    work per frame (substeps against CG iterations)."""
-    fig, axes = plt.subplots(1, len(rows) + 1, figsize=(3.4 * (len(rows) + 1), 3.5),
+    """Peak structural strain per frame of both methods, one panel per stiffness (one legend
+    for all, above them), and the work per frame (substeps against CG iterations)."""
+    fig, axes = plt.subplots(1, len(rows) + 1, figsize=(3.4 * (len(rows) + 1), 3.8),
                              constrained_layout=True)
     for ax, r in zip(axes, rows, strict=False):
         t = np.arange(r["explicit_strain"].size) / fps
         ax.plot(t, 100 * r["explicit_strain"], color=METHOD_COLORS["symplectic_euler"],
-                label=f"symplectic Euler, {r['substeps']} substeps")
+                label="symplectic Euler, substeps at 90 % of its limit")
         ax.plot(t, 100 * r["implicit_strain"], color=METHOD_COLORS["backward_euler"],
-                label="Baraff–Witkin, 1 step")
-        ax.set(xlabel="t (s)", title=f"k = {r['k']:.0f} N/m (×{r['factor']:g})", ylim=(0, None))
-        ax.legend(fontsize=7)
+                label="Baraff–Witkin, one step per frame")
+        ax.set(xlabel="t (s)", ylim=(0, None))
+        ax.set_title(f"k = {r['k']:.0f} N/m: {r['substeps']} substeps", fontsize=10)
     axes[0].set_ylabel("largest structural strain (%)")
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="outside upper left", ncols=2, fontsize=9,
+               frameon=False)
     ax = axes[-1]
     k = np.array([r["k"] for r in rows])
     ax.loglog(k, [r["substeps"] for r in rows], "o-", color=METHOD_COLORS["symplectic_euler"],
@@ -126,7 +130,8 @@ def draw_large_steps(rows, fps: float = 30.0):
               label="CG iterations per frame")
     ax.loglog(k, 0.5 * rows[0]["substeps"] * np.sqrt(k / k[0]), ":", color="0.4",
               label=r"guide $\propto\sqrt{k}$ (slope ½)")                 # below the substeps
-    ax.set(xlabel="structural stiffness k (N/m)", ylabel="per frame (1/30 s)", title="work per frame")
+    ax.set(xlabel="structural stiffness k (N/m)", ylabel="per frame (1/30 s)")
+    ax.set_title("work per frame", fontsize=10)
     ax.set_yticks([30, 100, 300], labels=["30", "100", "300"])
     ax.yaxis.set_minor_formatter(plt.NullFormatter())
     ax.legend(fontsize=7)
