@@ -236,6 +236,7 @@ def explicit_dt_max(cloth: Cloth, n_steps: int = 600, rtol: float = 1e-3, seed: 
     it is unstable if some particle ever moves 1 mm (a growth by 1000). The bracket
     defaults to ``[0.5, 2] × 2/ω`` with ``ω = √(max k / min m)`` scaled by 2.
     """
+    n_steps = _validate.positive_int("n_steps", n_steps)
     rng = np.random.default_rng(seed)
     nudge = 1e-6 * rng.uniform(-1.0, 1.0, cloth.x0.shape)
     nudge[cloth.pinned] = 0.0

@@ -551,39 +551,11 @@ ENTRIES += [
 ENTRY = {e.name: e for e in ENTRIES}
 
 
-#: Gaps found by this sweep in modules another helper owns (cloth.py, sph/), reported to the
-#: lead rather than fixed here; each case passes (XPASS) once its owner validates it.
-KNOWN_GAPS = {
-    "cloth.explicit_dt_max-n_steps": {"zero", "negative", "fraction"},
-    "sph.Params-spacing": {"inf"},
-    "sph.Params-rho0": {"inf"},
-    "sph.Params-support_ratio": {"inf"},
-    "sph.Params-cfl": {"inf"},
-    "sph.Simulation-x": {"text"},
-    "sph.Simulation-v": {"text"},
-    "sph.Simulation-t": {"nan", "inf"},
-    "sph.Simulation.run-max_steps": {"zero", "negative", "fraction"},
-    "sph.dam_break-a": {"zero", "negative", "inf"},
-    "sph.water_column-depth": {"zero", "negative", "nan", "inf"},
-    "sph.water_column-spacing": {"inf"},
-    "sph.front_errors-t": {"nan", "inf", "text"},
-    "sph.front_errors-z": {"text", "complex", "row_missing"},
-    "sph.front_errors-a": {"zero", "negative", "nan", "inf"},
-    "sph.front_errors-delay": {"negative", "nan", "inf"},
-    "sph.front_errors-g": {"zero", "negative", "nan", "inf"},
-    "sph.ritter_front-T": {"nan", "inf", "text"},
-}
-
-
-GAP = pytest.mark.xfail(reason="owned by the cloth/SPH work: reported", strict=False)
-
-
 def _cases():
     for e in ENTRIES:
         for arg, kind in e.kinds.items():
             for label, value in kind(e.good_value(arg)).items():
-                gap = label in KNOWN_GAPS.get(f"{e.name}-{arg}", ())
-                yield pytest.param(e.name, arg, value, marks=[GAP] * gap, id=f"{e.name}-{arg}-{label}")
+                yield pytest.param(e.name, arg, value, id=f"{e.name}-{arg}-{label}")
 
 
 @pytest.mark.parametrize("name", list(ENTRY))

@@ -62,10 +62,14 @@ class Params:
 
     def __post_init__(self):
         check_name(self.kernel)
-        for name in ("spacing", "rho0", "support_ratio", "cfl", "max_dt", "tolerance", "speed_limit"):
+        for name in ("spacing", "rho0", "support_ratio", "cfl", "tolerance"):
+            value = getattr(self, name)
+            if not (isinstance(value, numbers.Real) and np.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        for name in ("max_dt", "speed_limit"):          # inf means no limit
             value = getattr(self, name)
             if not (isinstance(value, numbers.Real) and value > 0 and not np.isnan(value)):
-                raise ValueError(f"{name} must be a positive number, got {value!r}")
+                raise ValueError(f"{name} must be a number > 0 (inf for no limit), got {value!r}")
         for name in ("viscosity", "wall_viscosity", "sound_speed"):
             value = getattr(self, name)
             if not (isinstance(value, numbers.Real) and np.isfinite(value) and value >= 0):

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _validate
 from . import boundary
 from .params import Params
 from .simulation import Simulation
@@ -41,7 +42,7 @@ MARTIN_MOYCE = np.array([
 def ritter_front(T) -> np.ndarray:
     """Ritter's (1892) dam-break front for a column of height ``2a``, in Martin & Moyce's
     variables: it moves at ``2√(g · 2a)``, so ``Z = 1 + 2T``."""
-    return 1.0 + 2.0 * np.asarray(T, dtype=float)
+    return 1.0 + 2.0 * _validate.real_array("T", T)
 
 
 def front_errors(t, z, a: float, table=None, delay: float = 0.0, g: float = G) -> np.ndarray:
@@ -53,9 +54,17 @@ def front_errors(t, z, a: float, table=None, delay: float = 0.0, g: float = G) -
     ``Z = z/a``, delayed by ``delay`` (its front at ``T`` is the one it had at ``T - delay``)
     and interpolated linearly at the table's times.
     """
-    table = MARTIN_MOYCE if table is None else np.asarray(table, dtype=float)
-    T_run = np.asarray(t, dtype=float) * np.sqrt(2.0 * g / a)
-    Z_run = np.asarray(z, dtype=float) / a
+    a, g = _validate.positive_finite("a", a), _validate.positive_finite("g", g)
+    delay = _validate.nonnegative("delay", delay)
+    table = MARTIN_MOYCE if table is None else _validate.real_array("table", table, (None, 2))
+    t, z = _validate.real_array("t", t, (None,)), _validate.real_array("z", z, (None,))
+    if len(t) != len(z) or len(t) < 2:
+        raise ValueError(f"t and z must hold the same number (>= 2) of samples, got {len(t)} "
+                         f"and {len(z)}")
+    if np.any(np.diff(t) <= 0):
+        raise ValueError("t must increase")
+    T_run = t * np.sqrt(2.0 * g / a)
+    Z_run = z / a
     return np.interp(table[:, 0] - delay, T_run, Z_run) / table[:, 1] - 1.0
 
 
@@ -92,6 +101,8 @@ def liquid(spacing: float, depth: float, **changes) -> Params:
 def water_column(width: float = 0.5, depth: float = 0.5, spacing: float = 0.025,
                  method: str = "iisph", **changes) -> Simulation:
     """Water ``depth`` m deep at rest in a box ``width`` m wide, on a lattice."""
+    width, depth = _validate.positive_finite("width", width), _validate.positive_finite("depth", depth)
+    spacing = _validate.positive_finite("spacing", spacing)
     params = liquid(spacing, depth, **changes)
     wall = boundary.box(width, 1.5 * depth, spacing, params.rho0, params.h, params.kernel)
     return Simulation(lattice(width, depth, spacing), params, wall, method=method)
@@ -111,6 +122,7 @@ def dam_break_simulation(n_particles: int = 1250, method: str = "iisph", a: floa
     """Martin & Moyce's n² = 2 column: ``a × 2a`` (m) of water at rest against the back
     wall (x = 0) of a tank ``tank · a`` long, released at t = 0: all at once
     (``gate_speed=None``), or by a gate at ``x = a`` lifted at ``gate_speed`` (m/s)."""
+    a, tank = _validate.positive_finite("a", a), _validate.positive_finite("tank", tank)
     spacing, _ = column_spacing(n_particles, a)
     params = liquid(spacing, 2.0 * a, **changes)
     wall = boundary.box(tank * a, 2.5 * a, spacing, params.rho0, params.h, params.kernel)

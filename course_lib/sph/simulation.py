@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import _validate
 from . import iisph, wcsph
 from .params import Params
 
@@ -60,11 +61,12 @@ class Simulation:
     def __post_init__(self):
         if self.method not in METHODS:
             raise ValueError(f"unknown method {self.method!r}; valid choices are: {', '.join(METHODS)}")
-        self.x = np.array(self.x, dtype=float)
+        self.x = _validate.real_array("x", self.x)
+        self.t = _validate.finite_real("t", self.t)
         if self.x.ndim != 2 or self.x.shape[1] != self.params.dim or not np.all(np.isfinite(self.x)):
             raise ValueError(f"x must be a finite array of shape (N, {self.params.dim}), got shape "
                              f"{self.x.shape}")
-        self.v = np.zeros_like(self.x) if self.v is None else np.array(self.v, dtype=float)
+        self.v = np.zeros_like(self.x) if self.v is None else _validate.real_array("v", self.v)
         if self.v.shape != self.x.shape or not np.all(np.isfinite(self.v)):
             raise ValueError(f"v must be finite with the shape of x, {self.x.shape}, got {self.v.shape}")
         self.p = np.zeros(len(self.x))
@@ -136,6 +138,7 @@ class Simulation:
         is called after each step that succeeded. Stops early if the run turns unstable."""
         if not (np.isfinite(t_end) and t_end > self.t):
             raise ValueError(f"t_end must be a time after t = {self.t} s, got {t_end!r}")
+        max_steps = _validate.positive_int("max_steps", max_steps)
         if frame_dt is not None and not (np.isfinite(frame_dt) and frame_dt > 0):
             raise ValueError(f"frame_dt must be a positive number of seconds, got {frame_dt!r}")
         frames = [self._frame()]
