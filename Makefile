@@ -49,10 +49,12 @@ ROUNDOFF_TESTS = $(shell grep -l "mark.roundoff" tests/test_*.py)
 RERUN_ORDERS ?= reverse
 TEST_STAGES := lint test-unit test-nbval test-rounding test-browser
 
-# Chromium (for the browser stage) installs in the background while pip sets up .venv.
+# Chromium (for the browser stage) and nbgrader's own venv (for the export's tests) are
+# made in the background while pip sets up .venv; the tests wait for them on lock files.
 test:
 	@$(STAGE) reset
 	@mkdir -p build && ($(PYTHON) tools/chromium.py > build/chromium-install.log 2>&1 &)
+	@($(PYTHON) course_lib/instructor/nbgrader_venv.py .venv-nbgrader > build/nbgrader-venv.log 2>&1 &)
 	@$(STAGE) run setup -- $(MAKE) --no-print-directory setup
 	@status=0; for stage in $(TEST_STAGES); do \
 		$(MAKE) --no-print-directory $$stage || status=1; done; \

@@ -25,17 +25,15 @@ from __future__ import annotations
 
 import contextlib
 import io
-import subprocess
-import sys
 import warnings
 from pathlib import Path
 
 import nbformat
 
+from . import nbgrader_venv
 from .kit import CHECK_IMPORT, exercise_calls
+from .nbgrader_venv import NBGRADER_VERSION
 from .notebooks import BEGIN
-
-NBGRADER_VERSION = "0.9.6"
 
 CONFIG = """\
 # nbgrader configuration written by `python -m course_lib.instructor nbgrader`.
@@ -138,13 +136,6 @@ def export_nbgrader(out: Path, kit: Path | None = None, assignments: list[str] |
 
 
 def ensure_nbgrader(venv: Path, version: str = NBGRADER_VERSION) -> Path:
-    """The ``nbgrader`` command of a separate venv holding nbgrader ``version`` (made if needed)."""
-    venv = Path(venv)
-    exe, stamp = venv / "bin" / "nbgrader", venv / f".nbgrader-{version}"
-    if exe.exists() and stamp.exists():
-        return exe
-    subprocess.run([sys.executable, "-m", "venv", "--clear", str(venv)], check=True)
-    subprocess.run([str(venv / "bin" / "python"), "-m", "pip", "install", "--quiet",
-                    "--disable-pip-version-check", f"nbgrader=={version}"], check=True)
-    stamp.write_text(f"nbgrader=={version}\n")
-    return exe
+    """The ``nbgrader`` command of a separate venv holding nbgrader ``version`` (made if
+    needed, or waited for if another process is making it: :mod:`.nbgrader_venv`)."""
+    return nbgrader_venv.ensure(venv, version)
