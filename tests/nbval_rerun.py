@@ -33,6 +33,9 @@ def pytest_addoption(parser):
                           "cells bottom to top and in a seeded random order")
     parser.addoption("--nbval-rerun-orders", default="reverse,random", metavar="ORDERS",
                      help="which re-runs, comma-separated: reverse, random (default both)")
+    parser.addoption("--nbval-rerun-max-seconds", type=float, default=float("inf"),
+                     metavar="S", help="leave out of the re-runs the cells whose Run All "
+                     "took longer than S seconds (the long simulations; default: none)")
 
 
 def rerun_cells(nb) -> list[tuple[int, str]]:
@@ -72,7 +75,10 @@ class RerunItem(pytest.Item):
         timeout = self.config.option.nbval_cell_timeout
         failures = []
         wanted = self.config.getoption("nbval_rerun_orders").split(",")
-        for name, order in rerun_orders(rerun_cells(nbfile.nb), wanted=wanted):
+        slow = _slow_cells(nbfile.nb, _durations.get(nbfile.nodeid, {}),
+                           self.config.getoption("nbval_rerun_max_seconds"))
+        cells = [(i, src) for i, src in rerun_cells(nbfile.nb) if i not in slow]
+        for name, order in rerun_orders(cells, wanted=wanted):
             for index, source in order:
                 msg_id = kernel.execute_cell_input(source, allow_stdin=False)
                 reply = _reply(kernel, msg_id, timeout)
@@ -97,12 +103,26 @@ def _reply(kernel, msg_id: str, timeout: float) -> dict:
 
 
 _failed_notebooks: set[str] = set()
+#: notebook node id -> {nbval's cell number (among code cells): seconds its run took}
+_durations: dict[str, dict[int, float]] = {}
+
+
+def _slow_cells(nb, durations: dict[int, float], limit: float) -> set[int]:
+    """Indices (among all cells) of the code cells whose Run All took over ``limit`` s."""
+    code = [i for i, c in enumerate(nb.cells) if c.cell_type == "code"]
+    return {code[n] for n, sec in durations.items() if sec > limit and n < len(code)}
 
 
 def pytest_runtest_logreport(report):
-    """Remember notebooks whose Run All failed (their rerun is skipped, not reported twice)."""
-    if report.failed and ".ipynb::" in report.nodeid:
-        _failed_notebooks.add(report.nodeid.split("::")[0])
+    """Remember notebooks whose Run All failed (their rerun is skipped, not reported twice)
+    and how long each cell took (the re-runs may leave the slowest out)."""
+    if ".ipynb::" not in report.nodeid:
+        return
+    notebook, _, cell = report.nodeid.partition("::")
+    if report.failed:
+        _failed_notebooks.add(notebook)
+    if report.when == "call" and cell.startswith("Cell "):
+        _durations.setdefault(notebook, {})[int(cell.split()[1])] = report.duration
 
 
 @pytest.hookimpl(tryfirst=True)

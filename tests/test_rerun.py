@@ -19,7 +19,7 @@ import tempfile
 
 import nbformat
 import pytest
-from nbval_rerun import rerun_cells, rerun_orders
+from nbval_rerun import _slow_cells, rerun_cells, rerun_orders
 from notebook_helpers import ROOT, SOLUTIONS, code_cells, read
 
 
@@ -77,6 +77,7 @@ def test_make_test_reruns_the_solutions():
     makefile = (ROOT / "Makefile").read_text()
     assert "--nbval-rerun=solutions" in makefile
     assert re.search(r"^RERUN_ORDERS \?= reverse", makefile, re.M)
+    assert "--nbval-rerun-max-seconds=$(RERUN_MAX_SECONDS)" in makefile
 
 
 def test_the_orders_can_be_chosen_and_unknown_ones_are_named():
@@ -84,3 +85,32 @@ def test_the_orders_can_be_chosen_and_unknown_ones_are_named():
     assert [name for name, _ in rerun_orders(cells, wanted=["reverse"])] == ["reverse order"]
     with pytest.raises(ValueError, match=r"unknown.*'sideways'.*'random', 'reverse'"):
         rerun_orders(cells, wanted=["sideways"])
+
+
+def test_the_slowest_cells_can_be_left_out_of_the_reruns():
+    """``--nbval-rerun-max-seconds`` leaves out the cells whose Run All took longer (numbered
+    by nbval among code cells, mapped back to the notebook's cells); the rest still re-run,
+    so a quick cell broken by a later one is still caught."""
+    nb = _notebook("a = 1", "slow = 2", "b = a")
+    nb.cells.insert(1, nbformat.v4.new_markdown_cell("text"))
+    assert _slow_cells(nb, {0: 0.1, 1: 5.0, 2: 0.2}, 1.0) == {2}
+    assert _slow_cells(nb, {0: 0.1, 1: 5.0, 2: 0.2}, float("inf")) == set()
+    build = ROOT / "build"
+    build.mkdir(exist_ok=True)
+    folder = tempfile.mkdtemp(prefix="rerun-", dir=build)
+    try:
+        # the slow cell breaks the fast one after it; the fast one breaks the slow one:
+        # left out, the slow cell no longer fails the rerun, the fast one still does
+        nbformat.write(_notebook("x = 1", "import time; time.sleep(1.5); z = x + 1",
+                                 "y = x + 1", "x = 'text'"), f"{folder}/nb.ipynb")
+        done = subprocess.run(
+            [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-p", "no:xdist",
+             "--nbval-lax", "--nbval-current-env", f"--nbval-rerun={folder}",
+             "--nbval-rerun-max-seconds=1", folder, "-rA"],
+            cwd=ROOT, capture_output=True, text=True, timeout=300)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    out = done.stdout
+    assert done.returncode == 1, out[-3000:]
+    assert "reverse order: cell 2 ('y = x + 1') raised TypeError" in out, out[-3000:]
+    assert "cell 1 (" not in out.split("rerun in other orders")[-1], out[-3000:]
