@@ -32,33 +32,6 @@ def is_dirty(page) -> bool:
     return page.evaluate(f"() => {NB}.context.model.dirty")
 
 
-DONE = f"""() => {{
-  const w = {NB}, k = w.sessionContext.session && w.sessionContext.session.kernel;
-  if (!k || k.status !== 'idle') return false;
-  const cells = w.content.widgets.filter(c => c.model.type === 'code');
-  const failed = cells.some(c => Array.from({{length: c.model.outputs.length}},
-      (_, j) => c.model.outputs.get(j).type).includes('error'));
-  return failed || cells.every(c => c.model.executionCount !== null);
-}}"""
-
-
-def run_all(page, timeout: float = 400) -> float:
-    """Run every cell (JupyterLab's Run All); wait until each code cell has run (or one
-    failed) and the kernel is idle. Returns the seconds it took."""
-    start = time.monotonic()
-    page.evaluate("() => { window.jupyterapp.commands.execute('notebook:run-all-cells'); }")
-    deadline = start + timeout
-    while time.monotonic() < deadline:
-        if page.evaluate(DONE):
-            time.sleep(0.5)
-            if page.evaluate(DONE):  # still done: not between two cells
-                return time.monotonic() - start
-        time.sleep(0.5)
-    pending = page.evaluate(f"""() => {NB}.content.widgets.map((c, i) => [i, c.model.type,
-        c.model.executionCount]).filter(x => x[1] === 'code' && x[2] === null).map(x => x[0])""")
-    raise AssertionError(f"Run All did not finish in {timeout:.0f} s; cells not run: {pending}")
-
-
 def rerun(page, index: int) -> None:
     """Run cell ``index`` again (as a student does, out of order) and wait for the kernel."""
     page.evaluate(f"""async (i) => {{
@@ -67,6 +40,16 @@ def rerun(page, index: int) -> None:
         await window.jupyterapp.commands.execute('notebook:run-cell');
       }}""", index)
     page.wait_for_function(READY, timeout=120_000, polling=250)
+
+
+def run_above(page, index: int) -> None:
+    """Run every cell above cell ``index`` (JupyterLab's Run All Above) and wait."""
+    page.evaluate(f"""async (i) => {{
+        const w = {NB};
+        w.content.activeCellIndex = i;
+        await window.jupyterapp.commands.execute('notebook:run-all-above');
+      }}""", index)
+    page.wait_for_function(READY, timeout=300_000, polling=250)
 
 
 def outputs_of(page, index: int) -> list[str]:
