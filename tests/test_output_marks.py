@@ -36,3 +36,14 @@ def test_no_emoji_only_marks(path):
 def test_the_pattern_catches_what_it_should():
     assert emoji_in("stable ✅ and ❌ 🚀") == ["✅", "❌", "🚀"]
     assert not EMOJI.search("stable ✓ unstable ✗ pending ○ → ≤ ± × π Δt ω² · – —")
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "solutions").glob("*.ipynb")), ids=lambda p: p.stem)
+def test_no_stored_error_or_warning(path):
+    """A solution stores no error and no stderr (a warning): strict nbval then fails on
+    any new stderr in a compared cell, so Run All stays clean without a browser."""
+    nb = nbformat.read(path, as_version=4)
+    bad = [(i, o.get("name", o.output_type)) for i, c in enumerate(nb.cells)
+           for o in c.get("outputs", [])
+           if o.output_type == "error" or (o.output_type == "stream" and o.get("name") == "stderr")]
+    assert not bad, f"{path.name}: stored errors or stderr in cells {bad}"
