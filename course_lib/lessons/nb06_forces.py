@@ -99,8 +99,9 @@ def cluster_gravity(mass, G: float = 1.0, softening: float = 0.1):
     def f(t, y):
         x, v = y[0], y[1]
         r = x[:, :, None, :] - x[:, None, :, :]                 # (S, N, N, d)
-        pull = (np.sum(r * r, axis=-1) + softening**2) ** -1.5
-        return np.stack((v, -G * np.einsum("sij,j,sijd->sid", pull, mass, r)))
+        d2 = np.einsum("sijd,sijd->sij", r, r) + softening**2
+        pull = mass / (d2 * np.sqrt(d2))                          # m_j / (r² + ε²)^1.5
+        return np.stack((v, -G * (pull[:, :, None, :] @ r)[:, :, 0, :]))   # sum over j
 
     return f
 
