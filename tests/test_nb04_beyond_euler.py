@@ -42,7 +42,8 @@ def exact_pulsing(t):
 def convergence_study(method: str):
     """Section 4: the pulsing vortex over T = 2π, as in the notebook."""
     T = 2 * np.pi
-    counts = 2 ** np.arange(3, 9) if method == "rk4" else 2 ** np.arange(5, 13)
+    top = {"rk4": 9, "trapezoidal": 12}.get(method, 13)          # as the notebook's step_counts
+    counts = 2 ** np.arange(3 if method == "rk4" else 5, top)
     dts, errors, nfev = [], [], []
     for n in counts:
         traj = cl.integrate(check.pulsing_vortex, [1.0, 0.0], (0.0, T), T / n, method=method)
@@ -542,14 +543,37 @@ def test_fewest_steps_quoted(fewest):
 
 def test_fewest_steps_is_not_fooled_by_a_local_wiggle(fewest, stiff):
     """Bisection assumes the error crosses the target once: check the neighbourhood of every
-    answer (five counts either side) and the bracket ends."""
+    answer (three counts either side; the runs the bisection made come from cost_study's
+    cache) and the bracket ends."""
     lesson, _ = stiff
     for (m, target), (best, _) in fewest.items():
         n = best.steps
-        rows = lesson.cost_study([m], range(n - 5, n + 6))
-        assert all(r.error > target for r in rows[:5]) and all(r.error <= target for r in rows[5:]), m
+        rows = lesson.cost_study([m], range(n - 3, n + 4))
+        assert all(r.error > target for r in rows[:3]) and all(r.error <= target for r in rows[3:]), m
     with pytest.raises(ValueError, match="need error"):
         lesson.fewest_steps("backward_euler", 1e-4, 64, 128)      # both ends meet the target
+
+
+def test_cost_study_cache_returns_what_a_fresh_run_gives(stiff):
+    """cost_study keeps its rows: a second call returns the same row without running again,
+    and that row is what integrate gives (the follower's f matches -κ (X - P(t)) bit for bit)."""
+    lesson, rows = stiff
+    first = rows[0]
+    assert lesson.cost_study([first.method], [first.steps])[0] is first
+    f, jac, exact = lesson.follower()
+    for m, n in (("rk4", 4096), ("trapezoidal", 128)):
+        kw = {"jac": jac} if m == "trapezoidal" else {}
+        run = cl.integrate(f, [0.0, 0.0], (0.0, 2 * np.pi), 2 * np.pi / n, m, blowup_bound=1e3,
+                           **kw)
+        row = next(r for r in rows if (r.method, r.steps) == (m, n))
+        error = float(np.linalg.norm(run.y[-1] - exact(2 * np.pi, [0.0, 0.0])))
+        assert (row.nfev, row.error) == (run.nfev, error)
+    rng = np.random.default_rng(4)
+    for t, X in zip(rng.uniform(0.0, 7.0, 200), rng.normal(size=(200, 2)), strict=True):
+        want = -lesson.KAPPA * (X - np.array([np.cos(t), np.sin(t)]))
+        np.testing.assert_array_equal(f(t, X), want)
+    with pytest.raises(ValueError):
+        lesson.cost_study(["rk4"], [16], X0=("a", 0.0))
 
 
 def test_explicit_counts_sit_just_above_the_stability_limits():
