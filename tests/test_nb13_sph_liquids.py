@@ -278,6 +278,27 @@ def test_front_study(fronts):
 
 
 @pytest.mark.roundoff
+def test_stored_fronts_are_the_runs(fronts):
+    """The notebook loads the four variants of its front study (runs.STORED_FRONTS) instead
+    of running them: they must be the runs above. The table prints the errors to 0.1 % and
+    the delays to 0.01, so the stored errors must agree to 0.02 % (a drift of the model or
+    of the scene fails here), and every run's best delay must be the same."""
+    stored = runs.stored_front_study(fronts["800 particles"])
+    assert list(stored) == list(fronts)
+    assert stored["800 particles"] is fronts["800 particles"]
+    for label in list(fronts)[1:]:
+        run, fresh = stored[label], fronts[label]
+        assert run.a == fresh.a and run.viscosity == pytest.approx(fresh.viscosity, rel=1e-12, abs=0)
+        for delay in (0.0, runs.RELEASE_DELAY):
+            np.testing.assert_allclose(runs.front_errors(run, delay), runs.front_errors(fresh, delay),
+                                       rtol=0, atol=2e-4, err_msg=label)
+        assert runs.best_shift(run)[0] == runs.best_shift(fresh)[0], label
+        assert runs.best_shift(run)[1] == pytest.approx(runs.best_shift(fresh)[1], abs=2e-4)
+        np.testing.assert_allclose(run.Z[-1], fresh.Z[-1], rtol=1e-3)
+        assert run.T[-1] == pytest.approx(3.5, rel=1e-12)
+
+
+@pytest.mark.roundoff
 def test_the_gate_starts_ahead_then_falls_behind(fronts):
     """The gated front is ahead of the measurement and of the release at once at the first
     measured time, ahead of the measurements up to T = 2.2 and behind them after."""

@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -65,6 +66,11 @@ class DamRun:
     def Z(self) -> np.ndarray:
         """Martin & Moyce's front ``z / a``."""
         return self.z / self.a
+
+    @property
+    def viscosity(self) -> float:
+        """The run's artificial viscosity ν (m²/s)."""
+        return float(self.sim.params.viscosity)
 
     @property
     def cost_per_second(self) -> float:
@@ -121,6 +127,56 @@ def front_study(main: DamRun | None = None, runs=None) -> dict[str, DamRun]:
             changes["gate_speed"] = gate_speed(1.0, changes["gate_speed"])
         out[label] = dam_run(n, **changes)
     return out
+
+
+#: The front study's variants (:data:`FRONT_RUNS`) as :func:`make_stored_fronts` saved them:
+#: four dam breaks, about 5 s of CPU, that the notebook loads instead of running
+#: (``tests/test_nb13_sph_liquids.py`` runs them again and fails if they drift).
+STORED_FRONTS = Path(__file__).with_name("nb13_fronts.npz")
+
+
+@dataclass
+class StoredFront:
+    """A stored dam-break front: times ``t`` (s) and fronts ``z`` (m) after every step,
+    column width ``a`` (m) and viscosity ν (m²/s); ``T``, ``Z`` as in :class:`DamRun`."""
+
+    t: np.ndarray
+    z: np.ndarray
+    a: float
+    viscosity: float
+
+    @property
+    def T(self) -> np.ndarray:
+        """Martin & Moyce's time ``t √(2g/a)``."""
+        return self.t * np.sqrt(2 * scenes.G / self.a)
+
+    @property
+    def Z(self) -> np.ndarray:
+        """Martin & Moyce's front ``z / a``."""
+        return self.z / self.a
+
+
+def make_stored_fronts(path: Path | None = STORED_FRONTS) -> dict[str, StoredFront]:
+    """Run the variants of :data:`FRONT_RUNS` (:func:`front_study` without the notebook's
+    own run) and save their fronts to ``path`` (``None``: do not save)."""
+    fresh = front_study(main=StoredFront(np.zeros(1), np.zeros(1), 1.0, 0.0))
+    out = {label: StoredFront(run.t, run.z, run.a, run.viscosity)
+           for label, run in list(fresh.items())[1:]}
+    if path is not None:
+        arrays = {"labels": np.array(list(out))}
+        for k, run in enumerate(out.values()):
+            arrays.update({f"t{k}": run.t, f"z{k}": run.z, f"a{k}": run.a, f"nu{k}": run.viscosity})
+        np.savez_compressed(path, **arrays)
+    return out
+
+
+def stored_front_study(main: DamRun) -> dict:
+    """:func:`front_study` with the notebook's run ``main`` and the stored variants
+    (:data:`STORED_FRONTS`), by label."""
+    with np.load(STORED_FRONTS) as f:
+        stored = {str(label): StoredFront(f[f"t{k}"], f[f"z{k}"], float(f[f"a{k}"]), float(f[f"nu{k}"]))
+                  for k, label in enumerate(f["labels"])}
+    return {f"{N_DAM} particles": main, **stored}
 
 
 def step_study(n_particles: int = N_STUDY, T_end: float = T_STUDY, runs=STUDY_RUNS) -> dict:
