@@ -47,16 +47,34 @@ def grading_modules(check_modules: list[str]) -> list[str]:
         parts = name.split(".")
         stack += [".".join(parts[:i]) for i in range(1, len(parts))]
         package = name if origin.endswith("__init__.py") else name.rsplit(".", 1)[0]
-        with AST_LOCK:  # see scan.AST_LOCK: the grader parses from several threads
-            tree = ast.parse(Path(origin).read_bytes())
-        for node in ast.walk(tree):
-            if isinstance(node, ast.Import):
-                stack += [a.name for a in node.names]
-            elif isinstance(node, ast.ImportFrom):
-                base = package.split(".")[: len(package.split(".")) - node.level + 1] if node.level else []
-                target = ".".join(base + ([node.module] if node.module else []))
-                stack += [target] + [f"{target}.{a.name}" for a in node.names]
+        stack += _imports(origin, package)
     return sorted(seen)
+
+
+#: ``origin -> ((mtime_ns, size), imported names)``: a file is read again only once changed.
+_IMPORTS: dict[str, tuple[tuple[int, int], list[str]]] = {}
+
+
+def _imports(origin: str, package: str) -> list[str]:
+    """The dotted names the module at ``origin`` (in ``package``) imports, read from its
+    source (parsed once per version of the file and process: a grading run asks per run)."""
+    stat = os.stat(origin)
+    stamp = (stat.st_mtime_ns, stat.st_size)
+    cached = _IMPORTS.get(origin)
+    if cached is not None and cached[0] == stamp:
+        return cached[1]
+    with AST_LOCK:  # see scan.AST_LOCK: the grader parses from several threads
+        tree = ast.parse(Path(origin).read_bytes())
+    names: list[str] = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names += [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = package.split(".")[: len(package.split(".")) - node.level + 1] if node.level else []
+            target = ".".join(base + ([node.module] if node.module else []))
+            names += [target] + [f"{target}.{a.name}" for a in node.names]
+    _IMPORTS[origin] = (stamp, names)
+    return names
 
 
 def _origin(name: str) -> str | None:
