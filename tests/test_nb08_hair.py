@@ -374,7 +374,14 @@ def test_twist_needs_a_non_planar_strand():
         rate = 2 * (x0[3] - x0[0]) @ np.cross(u, x0[3] - x0[2])
         assert (abs(rate) > 1e-6) == (name == "helix"), name
     # released: the helix untwists, the planar ones stay twisted
-    final = {name: nb08.twist_release(shapes[name])[1][-1] for name in ("planar curl", "zigzag", "helix")}
+    released = nb08.twist_releases({name: shapes[name] for name in ("planar curl", "zigzag", "helix")})
+    final = {name: angle[-1] for name, (_, angle, _) in released.items()}
+    assert {message for _, _, message in released.values()} == {"ok"}
+    # the notebook's one run of the three strands is each strand's own run (0.2 s of it)
+    for name, (t, angle, _) in released.items():
+        t_one, angle_one, message = nb08.twist_release(shapes[name], t_end=0.2)
+        assert message == "ok" and np.array_equal(t_one, t[:t_one.size])
+        np.testing.assert_allclose(angle_one, angle[:angle_one.size], rtol=0, atol=1e-12)
     assert round(final["helix"], 2) == 0.01
     assert final["planar curl"] == pytest.approx(0.3, abs=1e-3)
     assert final["zigzag"] == pytest.approx(0.3, abs=6e-3)

@@ -23,6 +23,7 @@ from .nb08_hair_runs import (
     tip_sag,
     twist_energy,
     twist_release,
+    twist_releases,
     twist_shapes,
 )
 from .nb08_hair_view import (
@@ -38,4 +39,4 @@ __all__ = ["HeldStrandPlot", "HeldStrandRun", "SaddleEscape", "animate", "damped
            "draw_hairstyle", "draw_held_strand", "draw_saddle", "drooped_equilibrium",
            "flipped_bends", "held_strand", "held_strand_explorer",
            "max_strain_vs_substeps", "run_held_strand", "saddle_escape", "stiffest_edge",
-           "tip_sag", "twist_energy", "twist_release", "twist_shapes"]
+           "tip_sag", "twist_energy", "twist_release", "twist_releases", "twist_shapes"]

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..forces import G_EARTH
 from ..hair import FPS, MASS, STRAND, max_strain, simulate, static_shape, symplectic_euler_run
-from ..springs import hair_chain, max_frequency
+from ..springs import SpringNetwork, hair_chain, max_frequency
 from ..statics import Equilibrium, curvature, equilibrium
 from ..strands import helix, strand_network, twist, twist_angle
 
@@ -233,3 +233,28 @@ def twist_release(x0, angle: float = 0.3, k_bend: float = 2000.0, k_twist: float
                                       pinned=tuple(range(cut + 1)), damping=damping,
                                       gravity=None)
     return dt * np.arange(n + 1), twist_angle(x, x0, cut), message
+
+
+def twist_releases(shapes: dict, angle: float = 0.3, k_bend: float = 2000.0, k_twist: float = 500.0,
+                   damping: float = 1e-3, dt: float = 1e-4, t_end: float = 1.5, cut: int = 2) -> dict:
+    """:func:`twist_release` of every strand of ``shapes`` (``{name: x0}``, each ``(n, 3)``)
+    in ONE run: the strands side by side in one network, which they do not share, so each
+    moves as it would alone (the same arithmetic, particle by particle) at a third of the
+    cost of three runs. Returns ``{name: (t, twist angle of the tip, message)}``."""
+    rest = [np.asarray(x0, dtype=float) for x0 in shapes.values()]
+    nets = [strand_network(x0, STRAND["k_edge"], k_bend, k_twist) for x0 in rest]
+    offsets = np.cumsum([0] + [len(x0) for x0 in rest])
+    def joined(field, shift=False):
+        return np.concatenate([getattr(s, field) + o if shift else getattr(s, field)
+                               for o, s in zip(offsets, nets, strict=False)])
+
+    net = SpringNetwork(joined("i", True), joined("j", True), joined("rest"), joined("k"),
+                        joined("c"), int(offsets[-1]), joined("kind"))
+    n = round(t_end / dt)
+    x, message = symplectic_euler_run(np.concatenate([twist(x0, angle, cut) for x0 in rest]), net, dt,
+                                      n, pinned=tuple(int(o) + p for o in offsets[:-1]
+                                                      for p in range(cut + 1)),
+                                      damping=damping, gravity=None)
+    t = dt * np.arange(n + 1)
+    return {name: (t, twist_angle(x[:, a:b], x0, cut), message)
+            for name, x0, a, b in zip(shapes, rest, offsets[:-1], offsets[1:], strict=True)}
