@@ -528,6 +528,11 @@ def test_first_start_and_its_snapshots(ensembles):
 
     flock = lesson.run_flock(n=80, steps=600, dt=0.05, seed=0)
     np.testing.assert_array_equal(flock.polarisation, ensembles[0][0][0])  # "the first start"
+    # the ensemble flies its flocks as one stack: each is still the flock run_flock gives
+    alone = lesson.run_flock(seed=5, weights=(1.0, 0.0, 0.6), nudge=1e-13).polarisation
+    curves, late = lesson.flock_ensemble([4, 5], weights=(1.0, 0.0, 0.6), nudge=1e-13)
+    np.testing.assert_array_equal(curves[1], alone)
+    assert late[1] == alone[300:].mean()
     assert flock.t[-1] == pytest.approx(30.0)
     speeds = np.linalg.norm(flock.V[1:], axis=-1)
     assert speeds.min() >= 0.6 - 1e-12 and speeds.max() <= 1.5 + 1e-12
