@@ -85,14 +85,15 @@ class Recorder:
         codec = self.codec
 
         def spy(*args, **kwargs):
+            if len(log) >= MAX_CALLBACKS:  # past the cap a call is made, not kept
+                return value(*args, **kwargs)
             entry = {"arg": key}
-            if len(log) < MAX_CALLBACKS:
-                try:  # arguments the codec cannot carry (a function of the student's) are not replayed
-                    encoded = codec.encode([list(args), kwargs], 1 << 20)
-                    entry["args"] = None if codec.has_opaque(encoded) else encoded
-                except Exception:
-                    entry["args"] = None
-                log.append(entry)
+            try:  # arguments the codec cannot carry (a function of the student's) are not replayed
+                encoded = codec.encode([list(args), kwargs], 1 << 20)
+                entry["args"] = None if codec.has_opaque(encoded) else encoded
+            except Exception:
+                entry["args"] = None
+            log.append(entry)
             try:
                 out = value(*args, **kwargs)
             except BaseException as exc:
