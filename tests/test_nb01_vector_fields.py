@@ -533,6 +533,8 @@ def test_first_start_and_its_snapshots(ensembles):
     curves, late = lesson.flock_ensemble([4, 5], weights=(1.0, 0.0, 0.6), nudge=1e-13)
     np.testing.assert_array_equal(curves[1], alone)
     assert late[1] == alone[300:].mean()
+    with pytest.raises(ValueError, match="seeds"):
+        lesson.flock_ensemble([])
     assert flock.t[-1] == pytest.approx(30.0)
     speeds = np.linalg.norm(flock.V[1:], axis=-1)
     assert speeds.min() >= 0.6 - 1e-12 and speeds.max() <= 1.5 + 1e-12

@@ -171,6 +171,8 @@ def flock_ensemble(seeds, weights=WEIGHTS, n: int = 80, steps: int = 600, dt: fl
     box, speed = 10.0, (0.6, 1.5)
     _check(n, steps, dt, box)
     starts = [_start(n, box, speed, s, nudge) for s in seeds]
+    if not starts:
+        raise ValueError("seeds must hold at least one seed")
     X, V = (np.stack(part) for part in zip(*starts, strict=True))
     Vs, _ = _fly(X, V, steps, dt, box, weights, speed, False)
     curves = np.ascontiguousarray(polarisation(np.moveaxis(Vs, 0, 1)))   # rows, as one by one
