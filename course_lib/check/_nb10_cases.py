@@ -2,10 +2,12 @@
 check measures an answer's cost.
 
 - :func:`grid_cases`: point sets that break the usual shortcuts of a grid (pairs at exactly
-  the radius in diagonal cells, coincident points, clusters) and two of the same density,
-  2000 and 8000 points, on which the cost is measured;
+  the radius in diagonal cells, coincident points, clusters) and four of the same density on
+  which the cost is measured (2000 points in a square, the same number in a long narrow band
+  each way round, 8000 in a square), and :func:`cost_verdict`, which judges that cost;
 - :func:`scatter` and :func:`roundoff_bound`: the separation rule's per-boid sums and the
-  round-off they may carry; :func:`ring_mistakes`: the usual wrong radii of Exercise 2;
+  round-off they may carry; :func:`ring_mistakes`: the usual wrong radii of Exercise 2, and
+  :func:`ring_hints`, which names the one the evidence of every case points to;
 - :func:`measured`: runs an answer and returns its result, the peak memory it held and the
   bytes it allocated in all (tracemalloc, sampled at every line of the answer's own code),
   stopping it after :func:`line_limit` lines.
@@ -73,23 +75,75 @@ def measured(func, *args) -> tuple[object, int, int]:
     return out, max(peak_all, peak), total + peak - held
 
 
+#: A band of the same area as the 2000-point square (2500 m²), 2.5 m by 1 km: a grid's
+#: cells hold as many points as in the square, so it costs the same (0.87 times measured);
+#: a sweep along the band's width compares each point with a strip 1 km long instead of
+#: 50 m (6 times the bytes for a sweep that loops over the points, 16 for a vectorized one).
+BAND = (2.5, 1000.0)
+#: Largest ratio of the bytes allocated on a band to those on the square (a grid: about 1).
+SHAPE_LIMIT = 2.0
+#: For four times the points at the same density a grid allocates about four times the
+#: memory in total (a neighbourhood of the same size per point; 3.5 to 3.9 measured); all
+#: pairs, even a row at a time, sixteen times; a vectorized sweep eight (a sweep that loops
+#: over the points, 5.3: its per-point overhead hides the strip; the bands catch it). The
+#: geometric mean of a grid's 4 and a sweep's 8:
+GROWTH_LIMIT = float(np.sqrt(32.0))
+
+
 def grid_cases(seed: int):
-    """Point sets that break the usual shortcuts of a grid search (radius in m), and two of
-    the same density, the second with four times the points (the cost of the search)."""
+    """``(what, x, radius, role)``: point sets that break the usual shortcuts of a grid
+    search (radius in m; role ``"edge"``), then four of the same density on which the cost
+    is measured: 2000 points in a square (``"base"``), 2000 in a band :data:`BAND` each way
+    round (``"band"``: the search's cost must not depend on the region's shape) and 8000 in a
+    square (``"growth"``: it must grow as N)."""
     rng = np.random.default_rng(seed)
     yield "3-4-5: a pair at exactly the radius (5 m) in diagonal cells, one just beyond", \
-        np.array([[0.0, 0.0], [3.0, 4.0], [3.0, np.nextafter(4.0, 5.0) + 1e-9], [-3.0, -4.0]]), 5.0
+        np.array([[0.0, 0.0], [3.0, 4.0], [3.0, np.nextafter(4.0, 5.0) + 1e-9], [-3.0, -4.0]]), 5.0, "edge"
     yield "a row of points exactly one radius apart", np.column_stack((0.5 * np.arange(12.0),
-                                                                        np.zeros(12))), 0.5
+                                                                        np.zeros(12))), 0.5, "edge"
     yield "coincident points and negative coordinates", np.array(
-        [[-1.2, -0.3], [-1.2, -0.3], [-0.3, -1.1], [0.4, 0.2], [-2.9, -2.9], [-2.2, -2.1]]), 1.0
-    yield "one point", np.array([[1.0, 2.0]]), 1.0
-    yield "no pair at all", np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]]), 1.0
+        [[-1.2, -0.3], [-1.2, -0.3], [-0.3, -1.1], [0.4, 0.2], [-2.9, -2.9], [-2.2, -2.1]]), 1.0, "edge"
+    yield "one point", np.array([[1.0, 2.0]]), 1.0, "edge"
+    yield "no pair at all", np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]]), 1.0, "edge"
     yield "300 points in two tight clusters and a sparse cloud", np.concatenate((
         rng.normal(0.0, 0.3, (120, 2)), rng.normal(5.0, 0.2, (80, 2)),
-        rng.uniform(-10.0, 15.0, (100, 2)))), 0.7
-    yield "2000 points in a 50 m square, radius 1 m", rng.uniform(0.0, 50.0, (2000, 2)), 1.0
-    yield "8000 points in a 100 m square, radius 1 m", rng.uniform(0.0, 100.0, (8000, 2)), 1.0
+        rng.uniform(-10.0, 15.0, (100, 2)))), 0.7, "edge"
+    yield "2000 points in a 50 m square, radius 1 m", rng.uniform(0.0, 50.0, (2000, 2)), 1.0, "base"
+    band = rng.uniform(0.0, 1.0, (2000, 2)) * BAND
+    yield "2000 points in a band 2.5 m wide and 1 km long in y, radius 1 m", band, 1.0, "band"
+    yield "2000 points in a band 2.5 m wide and 1 km long in x, radius 1 m", band[:, ::-1].copy(), 1.0, "band"
+    yield "8000 points in a 100 m square, radius 1 m", rng.uniform(0.0, 100.0, (8000, 2)), 1.0, "growth"
+
+
+#: The hint for a search that is right on a few points but too costly, shared by the verdicts.
+GRID_MORE = ("with cells of side radius a point has about 9ρR² candidates whatever N and whatever "
+             "the region's shape (ρ the density): compare each point only with the points of its "
+             "own and the 8 neighbouring cells")
+
+
+def cost_verdict(what: str, x: np.ndarray, role: str, total: int, base: int):
+    """``(ok, what, detail, hint)`` for an answer that allocated ``total`` bytes in all on
+    the points ``x`` of a ``"band"`` or ``"growth"`` case, and ``base`` bytes on the
+    2000-point square of the same density."""
+    ratio = total / max(base, 1)
+    if role == "band":
+        long_in_y = np.ptp(x[:, 1]) > np.ptp(x[:, 0])
+        axis = "x" if long_in_y else "y"
+        return (ratio <= SHAPE_LIMIT, f"{what}: the cost does not depend on the region's shape",
+                f"your function allocated {base / 1e6:.1f} MB in all for 2000 points in a 50 m "
+                f"square and {total / 1e6:.1f} MB for 2000 at the same density in this band: "
+                f"{ratio:.1f} times as much (a grid: about 1, its cells hold as many points)",
+                (f"that is a sweep along {axis} (whether a loop or vectorized): each point is "
+                 f"compared with a strip across the whole region, and across this band the strip "
+                 f"is 1 km long; a grid's cells do not care about the region's shape", GRID_MORE))
+    return (ratio <= GROWTH_LIMIT, f"{what}: the cost grows as N",
+            f"your function allocated {base / 1e6:.1f} MB in all for 2000 points and "
+            f"{total / 1e6:.1f} MB for {len(x)} at the same density: {ratio:.1f} times as much "
+            "for 4 times the points (a grid: about 4; all pairs, even a row at a time: 16)",
+            ("that grows as N^1.5, like a sweep along one axis: each point meets a strip across "
+             "the whole domain, whose length grows with N; a grid's cells do not", GRID_MORE)
+            if ratio < 2 * GROWTH_LIMIT else ("that is all pairs, a row at a time: bin the points "
+                                              "into cells", GRID_MORE))
 
 
 # --- the separation rule and the ring ------------------------------------------------------
@@ -137,3 +191,19 @@ def ring_mistakes(n: int, ws: float, wc: float, r: float) -> list:
         (("check the units: w_s is in m²/s² and w_c in 1/s², and the radius in m",
           "you returned r²: take the square root"), r * r),
     ]
+
+
+def ring_hints(cases) -> list:
+    """The hint for each of ``cases`` (``(n, w_s, w_c, r, value)``, ``value`` the answer's
+    radius or None), from the evidence of every case: two usual mistakes may give the same
+    radius for one n (for n = 3 cohesion towards the centre of all n gives √(w_s/w_c), the
+    pair's spacing), so each case gets, of the mistakes it matches, the one that matches the
+    most cases (the first listed on a tie); None where it matches none."""
+    matched = [[hint for hint, wrong in ring_mistakes(n, ws, wc, r)
+                if value is not None and wrong is not None and np.isclose(value, wrong, rtol=1e-6)]
+               for n, ws, wc, r, value in cases]
+    count = {}
+    for hints in matched:
+        for hint in hints:
+            count[hint] = count.get(hint, 0) + 1
+    return [max(hints, key=lambda h: count[h]) if hints else None for hints in matched]

@@ -10,10 +10,13 @@ counts and weights (an answer that ignores its arguments fails). The grid search
 compared with the all-pairs reference :func:`course_lib.neighbors.all_pairs` on data that
 breaks the usual shortcuts (pairs in diagonal cells, at exactly the radius, coincident
 points, points far apart in one wide cell); the memory it holds at once tells a grid from
-an N × N table, and on four times the points at the same density the memory it allocates in
-all (bytes, the same on every machine) grows about fourfold for a grid, eightfold for a
-sweep along one axis and sixteenfold for all pairs tested a row at a time. Case data and the
-measurement: :mod:`course_lib.check._nb10_cases`.
+an N × N table; the memory it allocates in all (bytes, the same on every machine) is about
+the same for 2000 points in a square and in a long narrow band at the same density for a
+grid, but several times more in the band for a sweep along one axis, looped or vectorized;
+and on four times the points it grows about fourfold for a grid and sixteenfold for all
+pairs tested a row at a time. The separation rule may run at most :data:`SEPARATION_LINES`
+lines of Python (no loop over the pairs). Case data and the measurement:
+:mod:`course_lib.check._nb10_cases`.
 """
 
 from __future__ import annotations
@@ -26,11 +29,15 @@ from .. import boids, neighbors
 from ..lessons import nb10_flocking as _lesson
 from . import Checker, exercise
 from . import _nb10_cases as _cases
-from ._answers import one_number, rtol_for
-from ._nb10_cases import roundoff_bound
+from ._answers import as_scalar, call_analysis, one_number, rtol_for
+from ._nb10_cases import GROWTH_LIMIT, SHAPE_LIMIT, roundoff_bound  # noqa: F401 (re-exported)
 from .policy import name_chains
 
 _SEED = 1010
+#: Lines of Python the separation rule may run per case: a vectorized answer runs about five
+#: (a loop over the two columns, ten); a loop over the 295 pairs of the first case, or over
+#: its 30 boids, runs more than 60.
+SEPARATION_LINES = 40
 
 
 def _case(n, box, rng, isolated=False):
@@ -104,7 +111,14 @@ def separation(ck: Checker, func) -> None:
              "accumulate at i, the boid that sees its neighbour j, not at j"): -_cases.scatter(j, w, n),
         }
         args = (i.copy(), j.copy(), d.copy(), n)
-        got = func(*args)
+        ok, got = call_analysis(ck, what, SEPARATION_LINES, (
+            "vectorize: many pairs share the same i, so add their terms all at once with "
+            "np.add.at or np.bincount instead of a Python loop",
+            "np.add.at(S, i, -w) adds every row of w to the row of its boid, repeated i "
+            "included; np.bincount(i, weights, minlength=n) does the same for one column"),
+            func, *args, why="it loops over the pairs (or the boids) in Python")
+        if not ok:
+            continue
         if not (np.array_equal(args[0], i) and np.array_equal(args[2], d)):
             ck.expect(False, what, "your function changed its input arrays",
                       hint="build a new array for S instead of updating i, j or d in place")
@@ -139,19 +153,19 @@ RING_CASES = ((2, 0.3, 1.0), (3, 0.3, 1.0), (6, 0.3, 1.0), (5, 2.0, 0.5), (12, 0
 def ring_radius(ck: Checker, func) -> None:
     """``func(n, w_s, w_c) -> r``: the radius (m) of the ring of ``n`` boids, flying side by
     side and all in view of each other, on which separation and cohesion cancel."""
-    for n, ws, wc in RING_CASES:
+    answers = [(n, ws, wc, _lesson.ring_radius(n, ws, wc), func(n, ws, wc)) for n, ws, wc in RING_CASES]
+    right = [as_scalar(got) is not None and np.isclose(as_scalar(got), r, rtol=rtol_for(got, 1e-9), atol=0.0)
+             for n, ws, wc, r, got in answers]      # the closed form is exact to round-off
+    hints = _cases.ring_hints([(n, ws, wc, r, None if ok else as_scalar(got))
+                               for (n, ws, wc, r, got), ok in zip(answers, right, strict=True)])
+    for (n, ws, wc, expected, got), ok, hint in zip(answers, right, hints, strict=True):
         what = f"{n} boids, w_s = {ws:g} m²/s², w_c = {wc:g} 1/s²"
-        expected = _lesson.ring_radius(n, ws, wc)
-        got = func(n, ws, wc)
         value = one_number(ck, what, got, "a radius in m")
         if value is None:
             continue
-        rtol = rtol_for(got, 1e-9)                   # the closed form is exact to round-off
-        if np.isclose(value, expected, rtol=rtol, atol=0.0):
+        if ok:
             ck.expect(True, what)
             continue
-        hint = next((h for h, wrong in _cases.ring_mistakes(n, ws, wc, expected)
-                     if wrong is not None and np.isclose(value, wrong, rtol=1e-6)), None)
         if hint is None and np.isclose(value, expected, rtol=1e-6):
             hint = "close, but not to round-off: if you solve for r numerically, converge to 1e-10"
         ck.expect(False, what, f"expected {expected:.6g} m, got {value:.6g} m",
@@ -167,12 +181,6 @@ def ring_radius(ck: Checker, func) -> None:
 #: Memory (bytes) an answer may hold at once for the 2000-point case: a grid needs well
 #: under a megabyte; one N × N table of float64 needs 32 MB.
 MEMORY_LIMIT = 12_000_000
-#: For four times the points at the same density a grid allocates about four times the
-#: memory in total (a neighbourhood of the same size per point; 3.5 to 3.9 measured); a
-#: sweep along one axis eight times (each point meets a strip across the whole domain, whose
-#: length grows as √N; 7.8 measured); all pairs, even a row at a time, sixteen times. The
-#: geometric mean of a grid's 4 and a sweep's 8:
-GROWTH_LIMIT = float(np.sqrt(32.0))
 
 
 def _pair_set(i, j):
@@ -210,19 +218,23 @@ def neighbour_pairs(ck: Checker, func) -> None:
                   "this exercise asks for a grid of your own; scipy.spatial's trees are refused",
                   hint=("bin the points into cells of side radius with np.floor(x / radius)",))
         return
-    later, allocated = [], {}              # missing pairs are judged once every case is in
-    for what, x, radius in _cases.grid_cases(_SEED + 3):
-        if len(x) > 2000 and not allocated:
-            break                          # the cost is measured only on a search that works
-        ref = neighbors.pairs(x, radius) if len(x) > 2000 else neighbors.all_pairs(x, radius)
+    later, allocated, swept = [], {}, False    # missing pairs are judged once every case is in
+    for what, x, radius, role in _cases.grid_cases(_SEED + 3):
+        if (role in ("band", "growth") and not allocated) or (role == "growth" and swept):
+            break                          # the cost is measured only on a search that works,
+        #                                    its growth only once a band has found no sweep
+        ref = neighbors.all_pairs(x, radius) if role in ("edge", "base") else neighbors.pairs(x, radius)
         expected = _pair_set(ref.i, ref.j)
         try:
             got, peak, total = _cases.measured(func, x.copy(), radius)
         except _cases.TooLong:
-            limit = _cases.line_limit(len(x))
+            limit, swept = _cases.line_limit(len(x)), swept or role == "band"
             ck.expect(False, what, f"your function ran more than {limit:,} lines of Python on "
-                      f"{len(x)} points", hint=("testing every pair in Python takes N²/2 steps: bin "
-                                                "the points into cells instead",))
+                      f"{len(x)} points", hint=(
+                          "that is a sweep along one axis: across this band each point meets a strip "
+                          "1 km long; bin the points into cells instead",) if role == "band" else
+                      ("testing every pair in Python takes N²/2 steps: bin the points into cells "
+                       "instead",))
             continue
         try:
             i, j = (np.asarray(a).astype(int).ravel() for a in got)
@@ -268,30 +280,18 @@ def neighbour_pairs(ck: Checker, func) -> None:
             at_radius = all(np.isclose(ref.distance[np.flatnonzero((ref.i == a) & (ref.j == b))[0]],
                                        radius, rtol=1e-12) for a, b in missing)
             later.append((what, detail, at_radius))
-        elif len(x) == 2000 and peak > MEMORY_LIMIT:
+        elif role == "base" and peak > MEMORY_LIMIT:
             ck.expect(False, f"{what}: memory held at once",
                       f"your function held {peak / 1e6:.0f} MB at once for {len(x)} points",
                       hint=("that is an N × N table: bin the points into cells instead",
                             "an N × N table of distances grows as N²: bin the points into "
                             "cells of side radius and compare each point only with the "
                             "points of its own and the neighbouring cells"))
-        elif len(x) > 2000:
-            growth = total / max(allocated[2000], 1)
-            more = ("with cells of side radius a point has about 9ρR² candidates whatever N "
-                    "(ρ the density): compare each point only with the points of its own and "
-                    "the 8 neighbouring cells")
-            ck.expect(growth <= GROWTH_LIMIT, f"{what}: the cost grows as N",
-                      f"your function allocated {allocated[2000] / 1e6:.1f} MB in all for 2000 points "
-                      f"and {total / 1e6:.1f} MB for {len(x)} at the same density: {growth:.1f} times "
-                      "as much for 4 times the points (a grid: about 4; a sweep along one axis: 8; "
-                      "all pairs, even a row at a time: 16)",
-                      hint=("that grows as N^1.5, like a sweep along one axis: each point meets a "
-                            "strip across the whole domain, whose length grows with N; a grid's cells "
-                            "do not", more) if growth < 2 * GROWTH_LIMIT else
-                      ("that is all pairs, a row at a time: bin the points into cells", more))
+        elif role in ("band", "growth"):
+            swept |= not ck.expect(*_cases.cost_verdict(what, x, role, total, allocated[2000]))
         else:
             ck.expect(True, what)
-            if len(x) == 2000:
+            if role == "base":
                 allocated[2000] = total
     for what, detail, _ in later:
         ck.expect(False, what, detail, hint=_missing_hint(later))

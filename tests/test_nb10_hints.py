@@ -1,0 +1,281 @@
+"""Notebook 10's exercise checks against the mistakes a fourth blind read planted: a loop
+over the pairs in the separation rule ("Vectorize"), a sweep along one axis written as a
+loop over the points in the grid search, and two ring mistakes that give the same radius
+for one n. Each answer is written the way a notebook cell writes it."""
+
+import numpy as np
+import pytest
+
+from course_lib.check import FAILURES, evaluate
+from course_lib.check import _nb10_cases as cases
+from course_lib.check import nb10 as check
+from course_lib.lessons import nb10_flocking as lesson
+
+
+def answer(source: str, name: str):
+    """A function defined the way a notebook cell defines it (module ``__main__``)."""
+    namespace = {"__name__": "__main__", "np": np}
+    exec(compile(source, "<cell>", "exec"), namespace)
+    return namespace[name]
+
+
+def judged(check_fn, func, attempt: int = 0) -> tuple[str, list[str]]:
+    """(status, failure messages) of ``func``, as after ``attempt`` wrong tries."""
+    FAILURES.pop(check_fn.key, None)
+    if attempt:
+        FAILURES[check_fn.key] = attempt
+    try:
+        verdict = evaluate(check_fn, func)
+    finally:
+        FAILURES.pop(check_fn.key, None)
+    return verdict["status"], verdict["failed_cases"]
+
+
+# --- Exercise 1: "Vectorize" is checked --------------------------------------------------
+
+SEPARATION = {
+    "np.add.at": ("""
+def separation(i, j, d, n):
+    S = np.zeros((n, 2))
+    np.add.at(S, i, -d / np.einsum("pk,pk->p", d, d)[:, None])
+    return S
+""", "correct"),
+    "np.bincount, a loop over the two columns": ("""
+def separation(i, j, d, n):
+    w = d / (d ** 2).sum(axis=1)[:, None]
+    S = np.zeros((n, 2))
+    for k in range(2):
+        S[:, k] = -np.bincount(i, w[:, k], minlength=n)
+    return S
+""", "correct"),
+    "a loop over the pairs": ("""
+def separation(i, j, d, n):
+    S = np.zeros((n, 2))
+    for p in range(len(i)):
+        S[i[p]] -= d[p] / (d[p] @ d[p])
+    return S
+""", "incorrect"),
+    "a loop over the boids": ("""
+def separation(i, j, d, n):
+    w = d / (d ** 2).sum(axis=1)[:, None]
+    S = np.zeros((n, 2))
+    for b in range(n):
+        S[b] = -w[i == b].sum(axis=0)
+    return S
+""", "incorrect"),
+    "a loop over zip(i, d), accumulating in a list": ("""
+def separation(i, j, d, n):
+    S = [[0.0, 0.0] for _ in range(n)]
+    for a, (dx, dy) in zip(i.tolist(), d.tolist()):
+        r2 = dx * dx + dy * dy
+        S[a][0] -= dx / r2
+        S[a][1] -= dy / r2
+    return np.array(S)
+""", "incorrect"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(SEPARATION))
+def test_separation_refuses_a_python_loop(name):
+    source, status = SEPARATION[name]
+    got, failed = judged(check.separation, answer(source, "separation"))
+    assert got == status, (name, failed)
+    if status == "incorrect":        # every case fails for the loop and says how to vectorize
+        assert len(failed) == 2 and all("lines of Python" in f for f in failed), failed
+        assert all("loops over the pairs" in f and "np.add.at or np.bincount" in f
+                   for f in failed), failed
+        more = judged(check.separation, answer(source, "separation"), attempt=1)[1]
+        assert all("np.add.at(S, i, -w)" in f for f in more), more
+
+
+def test_separation_budget_separates_a_loop_from_a_formula():
+    """The budget lies between what a vectorized answer runs (a handful of lines, ten with
+    a loop over the two columns) and what a loop over the fewest pairs or boids of any case
+    runs (two lines per iteration)."""
+    rng = np.random.default_rng(check._SEED)
+    i = check._case(30, 8.0, rng, True)[3]
+    assert 10 < check.SEPARATION_LINES < 2 * min(len(i), 30)
+
+
+# --- Exercise 2: the hint the evidence of every case points to ---------------------------
+
+def _mistake_answer(k: int):
+    """An answer that makes ring mistake ``k`` in every case (the right radius where that
+    mistake is undefined), its radii worked out beforehand (an answer may not call the
+    library)."""
+    table = {}
+    for n, ws, wc in check.RING_CASES:
+        r = lesson.ring_radius(n, ws, wc)
+        wrong = cases.ring_mistakes(n, ws, wc, r)[k][1]
+        table[n, ws, wc] = r if wrong is None else float(wrong)
+    return lambda n, w_s, w_c: table[n, w_s, w_c]
+
+
+MISTAKES = range(len(cases.ring_mistakes(3, 0.3, 1.0, 1.0)))
+
+
+@pytest.mark.parametrize("k", MISTAKES)
+def test_each_ring_mistake_gets_its_own_hint_in_every_case(k):
+    """The class of the n = 3 misdiagnosis: whichever mistake an answer makes, every case it
+    fails names that mistake, even where another mistake gives the same radius."""
+    nudge, more = (h for h in cases.ring_mistakes(3, 0.3, 1.0, 1.0)[k][0])
+    status, failed = judged(check.ring_radius, _mistake_answer(k))
+    assert status == "incorrect" and failed
+    assert all(nudge in f for f in failed), (k, failed)
+    assert all(more in f for f in judged(check.ring_radius, _mistake_answer(k), attempt=1)[1])
+
+
+def test_cohesion_to_the_centre_of_all_n_is_named_on_three_boids():
+    """The reviewer's case: for n = 3 that mistake gives √(w_s/w_c), the pair's spacing, and
+    the check called it a chord; the other four cases say what it is."""
+    source = "def ring_radius(n, w_s, w_c):\n    return np.sqrt(w_s * (n - 1) / (2 * w_c))"
+    assert np.isclose(np.sqrt(0.3 * 2 / 2), np.sqrt(0.3))             # the coincidence
+    _, failed = judged(check.ring_radius, answer(source, "ring_radius"))
+    (three,) = [f for f in failed if f.startswith("3 boids")]
+    assert "centre of the *other* n - 1" in three and "circle" not in three
+    assert len(failed) == 5 and all("centre of the *other* n - 1" in f for f in failed)
+    # and the pair's spacing for every n is still told it is a distance, n = 3 included
+    _, failed = judged(check.ring_radius, answer(
+        "def ring_radius(n, w_s, w_c):\n    return np.sqrt(w_s / w_c)", "ring_radius"))
+    assert all("distance between two boids" in f for f in failed), failed
+
+
+# --- Exercise 3: a sweep fails however it is written --------------------------------------
+
+#: Sort by x, then compare each point with the points less than R to its right, in a
+#: Python loop over the points (the reviewer's sweep that passed 8/8).
+SWEEP_LOOP = """
+def neighbour_pairs(x, radius):
+    x = np.asarray(x, dtype=float)
+    order = np.argsort(x[:, {axis}])
+    xs = x[order]
+    i_all, j_all = [np.zeros(0, int)], [np.zeros(0, int)]
+    for a in range(len(xs)):
+        hi = np.searchsorted(xs[:, {axis}], xs[a, {axis}] + radius, "right")
+        d = xs[a + 1:hi] - xs[a]
+        near = np.flatnonzero((d ** 2).sum(axis=1) <= radius ** 2) + a + 1
+        i_all.append(np.full(near.size, a))
+        j_all.append(near)
+    i, j = order[np.concatenate(i_all)], order[np.concatenate(j_all)]
+    return np.minimum(i, j), np.maximum(i, j)
+"""
+
+#: The same sweep, its pairs collected one by one in lists.
+SWEEP_LISTS = """
+def neighbour_pairs(x, radius):
+    x = np.asarray(x, dtype=float)
+    order = np.argsort(x[:, 0])
+    xs = x[order]
+    i, j = [], []
+    for a in range(len(xs)):
+        hi = np.searchsorted(xs[:, 0], xs[a, 0] + radius, "right")
+        d = xs[a + 1:hi] - xs[a]
+        for b in np.flatnonzero((d ** 2).sum(axis=1) <= radius ** 2):
+            i.append(order[a])
+            j.append(order[a + 1 + b])
+    i, j = np.array(i, dtype=int), np.array(j, dtype=int)
+    return np.minimum(i, j), np.maximum(i, j)
+"""
+
+#: The same sweep in pure Python (a while loop along the strip).
+SWEEP_PURE = """
+def neighbour_pairs(x, radius):
+    order = np.argsort(np.asarray(x)[:, 0])
+    xs = np.asarray(x, dtype=float)[order].tolist()
+    i, j = [], []
+    for a in range(len(xs)):
+        b = a + 1
+        while b < len(xs) and xs[b][0] - xs[a][0] <= radius:
+            if (xs[b][0] - xs[a][0]) ** 2 + (xs[b][1] - xs[a][1]) ** 2 <= radius ** 2:
+                i.append(order[a])
+                j.append(order[b])
+            b += 1
+    i, j = np.array(i, dtype=int), np.array(j, dtype=int)
+    return np.minimum(i, j), np.maximum(i, j)
+"""
+
+#: A grid that loops in Python over every point and looks up its 3 × 3 cells in a dict.
+GRID_POINT_LOOP = """
+def neighbour_pairs(x, radius):
+    x = np.asarray(x, dtype=float)
+    cells = {}
+    keys = [tuple(c) for c in np.floor(x / radius).astype(int).tolist()]
+    for k, c in enumerate(keys):
+        cells.setdefault(c, []).append(k)
+    i, j = [], []
+    for k, (cx, cy) in enumerate(keys):
+        near = [m for dx in (-1, 0, 1) for dy in (-1, 0, 1)
+                for m in cells.get((cx + dx, cy + dy), ()) if m > k]
+        i.extend([k] * len(near))
+        j.extend(near)
+    i, j = np.array(i, dtype=int), np.array(j, dtype=int)
+    d = x[j] - x[i]
+    keep = (d ** 2).sum(axis=1) <= radius ** 2
+    return i[keep], j[keep]
+"""
+
+#: A vectorized grid: points sorted by cell, each neighbouring cell found by searchsorted.
+GRID_VECTORIZED = """
+def neighbour_pairs(x, radius):
+    x = np.asarray(x, dtype=float)
+    cell = np.floor(x / radius).astype(np.int64)
+    cell -= cell.min(axis=0) - 1
+    width = cell[:, 1].max() + 2
+    key = cell[:, 0] * width + cell[:, 1]
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    i_all, j_all = [], []
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            lo = np.searchsorted(sorted_key, key + dx * width + dy, "left")
+            count = np.searchsorted(sorted_key, key + dx * width + dy, "right") - lo
+            i_all.append(np.repeat(np.arange(len(x)), count))
+            start = np.repeat(lo - np.cumsum(count) + count, count)
+            j_all.append(order[start + np.arange(count.sum())])
+    i, j = np.concatenate(i_all), np.concatenate(j_all)
+    d = x[j] - x[i]
+    keep = (i < j) & ((d ** 2).sum(axis=1) <= radius ** 2)
+    return i[keep], j[keep]
+"""
+
+NEIGHBOURS = {
+    "a sweep along x, a loop over the points": (SWEEP_LOOP.format(axis=0), "sweep along x"),
+    "a sweep along y, a loop over the points": (SWEEP_LOOP.format(axis=1), "sweep along y"),
+    "a sweep along x, pairs appended one by one": (SWEEP_LISTS, "sweep along x"),
+    "a sweep along x in pure Python": (SWEEP_PURE, "that is a sweep along one axis"),
+    "a grid that loops over every point": (GRID_POINT_LOOP, None),
+    "a vectorized grid": (GRID_VECTORIZED, None),
+}
+
+
+@pytest.mark.parametrize("name", sorted(NEIGHBOURS))
+def test_a_sweep_fails_the_grid_exercise_however_written(name):
+    source, nudge = NEIGHBOURS[name]
+    status, failed = judged(check.neighbour_pairs, answer(source, "neighbour_pairs"))
+    if nudge is None:                      # a grid passes, a loop over the points included
+        assert status == "correct", (name, failed)
+        return
+    assert status == "incorrect" and any(nudge in f for f in failed), (name, failed)
+    # the right pairs: only the cost on a band fails, and it names the sweep, not all pairs
+    assert all("band" in f for f in failed) and not any("all pairs" in f for f in failed), failed
+
+
+def test_band_cost_separates_grid_and_sweep_with_margin():
+    """The bytes allocated on a band over those on the square: a grid's about 1, a looped
+    sweep's about 6 (its per-point overhead dilutes the strip's 20-fold growth); the limit
+    lies a factor of 1.5 or more from both (a grid that loops over the points passes the
+    check above)."""
+    x = {role: pts for _, pts, _, role in cases.grid_cases(check._SEED + 3) if role in ("base", "band")}
+    square = x["base"]
+    band = [pts for _, pts, _, role in cases.grid_cases(check._SEED + 3) if role == "band"]
+    assert len(band) == 2 and np.allclose(band[0], band[1][:, ::-1])
+    assert np.ptp(band[0], axis=0) == pytest.approx(cases.BAND, rel=0.01)
+    assert np.prod(cases.BAND) == pytest.approx(np.ptp(square, axis=0).prod(), rel=0.01)  # same density
+
+    def ratio(source, pts):
+        func = answer(source, "neighbour_pairs")
+        return cases.measured(func, pts, 1.0)[2] / cases.measured(func, square, 1.0)[2]
+
+    assert max(ratio(GRID_VECTORIZED, pts) for pts in band) < cases.SHAPE_LIMIT / 1.5   # 0.87
+    assert ratio(SWEEP_LOOP.format(axis=0), band[0]) > 2 * cases.SHAPE_LIMIT
+    assert ratio(SWEEP_LOOP.format(axis=1), band[1]) > 2 * cases.SHAPE_LIMIT
