@@ -279,3 +279,39 @@ def test_band_cost_separates_grid_and_sweep_with_margin():
     assert max(ratio(GRID_VECTORIZED, pts) for pts in band) < cases.SHAPE_LIMIT / 1.5   # 0.87
     assert ratio(SWEEP_LOOP.format(axis=0), band[0]) > 2 * cases.SHAPE_LIMIT
     assert ratio(SWEEP_LOOP.format(axis=1), band[1]) > 2 * cases.SHAPE_LIMIT
+
+
+# --- the twins at 35 s: a bound that holds for any rounding -------------------------------
+
+@pytest.mark.roundoff
+def test_twins_within_a_tenth_of_a_millimetre_after_35_s_under_any_rounding():
+    """Cell 20 quotes the twins of seed 0 "within 0.1 mm after 35 s". Another machine rounds
+    differently, so its twins are other draws of the same round-off: here the notebook's
+    reversed numbering, five random numberings and one-ulp nudges of three boids. Their
+    distances at 35 s spread (1.3e-6 to 4.2e-6 m for the numberings, 1.4e-10 to 8.8e-10 m
+    for the nudges); the worst, 4.2e-6 m, times e² (two e-foldings, 4 to 6 s of growth)
+    stays below 0.1 mm, while the 10 μm once quoted would leave a factor of 2.4, less than
+    one e-folding."""
+    from course_lib import boids
+    from course_lib.lessons import nb10_studies as studies
+    rules = boids.Rules(box=studies.BOX)
+    x, v = boids.random_flock(studies.N_BOIDS, studies.BOX, 1.0, np.random.default_rng(0))
+    steps = round(35 / studies.DT)
+    rng = np.random.default_rng(35)
+    twins = [np.arange(len(x))[::-1]] + [rng.permutation(len(x)) for _ in range(5)]
+    starts = [(x[p].copy(), v[p].copy(), np.argsort(p)) for p in twins]
+    for b in (0, 50, 100):
+        nudged = x.copy()
+        nudged[b, 1] = np.nextafter(nudged[b, 1], np.inf)
+        starts.append((nudged, v.copy(), slice(None)))
+    xa, va = x, v
+    states = [(xb, vb) for xb, vb, _ in starts]
+    for _ in range(steps):
+        xa, va = boids.step(xa, va, studies.DT, rules)
+        states = [boids.step(xb, vb, studies.DT, rules) for xb, vb in states]
+    distance = np.array([studies.rms_distance(xa, xb[back], studies.BOX)
+                         for (xb, _), (_, _, back) in zip(states, starts, strict=True)])
+    assert distance.max() * np.e**2 < 1e-4                       # "within 0.1 mm after 35 s"
+    assert distance[:6].min() > 1e-8                            # the numberings have diverged
+    t, d, _ = studies.divergence(0, steps, "order")             # the notebook's own twin
+    assert d[-1] == pytest.approx(distance[0], rel=1e-6) and t[-1] == pytest.approx(35.0)
