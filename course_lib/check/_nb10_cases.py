@@ -40,11 +40,25 @@ class TooLong(BaseException):
     so that the answer's own ``except Exception`` does not swallow it)."""
 
 
-def measured(func, *args) -> tuple[object, int, int]:
+class TooCostly(BaseException):
+    """Raised in an answer whose memory, sampled at a line of its code, passes the limit
+    :func:`measured` was given. Raised inside the answer, it is what the grader's worker
+    records and replays (the grader never measures the answer itself), so the grader's
+    check takes the same path as the notebook's; its message explains itself."""
+
+
+#: The names the grader's replay gives the two stops (it rebuilds them as plain Exceptions).
+STOPS = ("TooLong", "TooCostly")
+
+
+def measured(func, *args, held_limit: float = np.inf, total_limit: float = np.inf
+             ) -> tuple[object, int, int]:
     """``func(*args)``, the peak memory it held (bytes) and the bytes it allocated in
     total, sampled at every line of the answer's own code: the peak since the previous
     line, above what was held then, summed. Byte counts, not seconds: the same verdict on
-    every machine. Stops the answer (:class:`TooLong`) after :func:`line_limit` lines."""
+    every machine. Stops the answer after :func:`line_limit` lines (:class:`TooLong`), or
+    once it has held more than ``held_limit`` bytes at once or allocated more than
+    ``total_limit`` in all (:class:`TooCostly`)."""
     limit, lines, total, peak_all, held = line_limit(len(args[0])), 0, 0, 0, 0
 
     def line(frame, event, arg):
@@ -52,10 +66,14 @@ def measured(func, *args) -> tuple[object, int, int]:
         if event == "line":
             lines += 1
             if lines > limit:
-                raise TooLong
+                raise TooLong(f"your function ran more than {limit:,} lines of Python")
             current, peak = tracemalloc.get_traced_memory()
             total, peak_all, held = total + peak - held, max(peak_all, peak), current
             tracemalloc.reset_peak()
+            if peak_all > held_limit:
+                raise TooCostly(f"your function held more than {held_limit / 1e6:.0f} MB at once")
+            if total > total_limit:
+                raise TooCostly(f"your function allocated more than {total_limit / 1e6:.1f} MB in all")
         return line
 
     def calls(frame, event, arg):
@@ -119,6 +137,16 @@ def grid_cases(seed: int):
 GRID_MORE = ("with cells of side radius a point has about 9ρR² candidates whatever N and whatever "
              "the region's shape (ρ the density): compare each point only with the points of its "
              "own and the 8 neighbouring cells")
+TABLE_HINT = ("that is an N × N table: bin the points into cells instead",
+              "an N × N table of distances grows as N²: bin the points into cells of side radius "
+              "and compare each point only with the points of its own and the neighbouring cells")
+
+
+def _sweep_hint(x: np.ndarray) -> tuple[str, str]:
+    axis = "x" if np.ptp(x[:, 1]) > np.ptp(x[:, 0]) else "y"     # the band is long across x
+    return (f"that is a sweep along {axis} (whether a loop or vectorized): each point is compared "
+            "with a strip across the whole region, and across this band the strip is 1 km long; "
+            "a grid's cells do not care about the region's shape", GRID_MORE)
 
 
 def cost_verdict(what: str, x: np.ndarray, role: str, total: int, base: int):
@@ -127,15 +155,11 @@ def cost_verdict(what: str, x: np.ndarray, role: str, total: int, base: int):
     2000-point square of the same density."""
     ratio = total / max(base, 1)
     if role == "band":
-        long_in_y = np.ptp(x[:, 1]) > np.ptp(x[:, 0])
-        axis = "x" if long_in_y else "y"
         return (ratio <= SHAPE_LIMIT, f"{what}: the cost does not depend on the region's shape",
                 f"your function allocated {base / 1e6:.1f} MB in all for 2000 points in a 50 m "
                 f"square and {total / 1e6:.1f} MB for 2000 at the same density in this band: "
                 f"{ratio:.1f} times as much (a grid: about 1, its cells hold as many points)",
-                (f"that is a sweep along {axis} (whether a loop or vectorized): each point is "
-                 f"compared with a strip across the whole region, and across this band the strip "
-                 f"is 1 km long; a grid's cells do not care about the region's shape", GRID_MORE))
+                _sweep_hint(x))
     return (ratio <= GROWTH_LIMIT, f"{what}: the cost grows as N",
             f"your function allocated {base / 1e6:.1f} MB in all for 2000 points and "
             f"{total / 1e6:.1f} MB for {len(x)} at the same density: {ratio:.1f} times as much "
@@ -144,6 +168,28 @@ def cost_verdict(what: str, x: np.ndarray, role: str, total: int, base: int):
              "the whole domain, whose length grows with N; a grid's cells do not", GRID_MORE)
             if ratio < 2 * GROWTH_LIMIT else ("that is all pairs, a row at a time: bin the points "
                                               "into cells", GRID_MORE))
+
+
+def stop_verdict(what: str, x: np.ndarray, role: str, stop: BaseException, swept: bool):
+    """``(False, what, detail, hint)`` for an answer :func:`measured` stopped (``stop``, a
+    :class:`TooLong` or :class:`TooCostly`, or the grader's replay of one) on a case of
+    ``role``; ``swept`` says a band has already found a sweep."""
+    if role == "band":
+        return False, f"{what}: the cost does not depend on the region's shape", \
+            f"{stop} on 2000 points in this band, {SHAPE_LIMIT:g} times what it allocated for " \
+            "2000 in the 50 m square (a grid: about the same)", _sweep_hint(x)
+    swept_hint = ("like the bands, this points to a sweep along one axis: bin the points into "
+                  "cells instead", GRID_MORE)
+    if type(stop).__name__ == "TooLong":
+        return False, what, f"{stop} on {len(x)} points", swept_hint if swept else \
+            ("testing every pair in Python takes N²/2 steps: bin the points into cells instead",)
+    if role == "base":
+        return False, f"{what}: memory held at once", f"{stop} for {len(x)} points", TABLE_HINT
+    return False, f"{what}: the cost grows as N", \
+        f"{stop} for {len(x)} points, {GROWTH_LIMIT:.1f} times what it allocated for 2000", \
+        swept_hint if swept else ("that grows faster than N, like all pairs tested a row at a time "
+                                  "(16 times as much for 4 times the points) or a sweep along one "
+                                  "axis (8); a grid allocates about 4", GRID_MORE)
 
 
 # --- the separation rule and the ring ------------------------------------------------------
