@@ -532,6 +532,26 @@ def _expire_mask(data, n):
     return _alive(data, n)
 
 
+def _expire_reordered(order):
+    """Every survivor moved, every attribute alike, but in another order: ``order(m, data)``
+    gives the permutation of the survivors."""
+    def expire(data, n):
+        alive = _alive(data, n)
+        m = int(alive.sum())
+        perm = order(m, {k: a[:n][alive] for k, a in data.items()})
+        for a in data.values():
+            a[:m] = a[:n][alive][perm]
+        return m
+    return expire
+
+
+EXPIRE_REORDERED = {
+    "survivors reversed": lambda m, rows: np.arange(m)[::-1],
+    "survivors shuffled": lambda m, rows: np.random.default_rng(7).permutation(m),
+    "survivors sorted by age": lambda m, rows: np.argsort(rows["age"], kind="stable"),
+}
+
+
 EXPIRE_PLANTED = {
     "right": (_expire_right, "correct", None),
     "delegates to the library's rule": (notebook_answer(
@@ -557,6 +577,8 @@ EXPIRE_PLANTED = {
                                                                   "np.isclose's default tolerance"),
     "a stable sort on the dead flag (fine)": (_expire_argsort, "correct", None),
     "returns the mask": (_expire_mask, "incorrect", "return the number of survivors"),
+    **{name: (_expire_reordered(order), "incorrect", "original order")
+       for name, order in EXPIRE_REORDERED.items()},
 }
 
 #: Hints that each name one mistake: an answer must never get another mistake's hint.
@@ -583,6 +605,9 @@ def test_check_expire_planted(planted):
     for attempt in (0, 1, 2):
         text = judged(check.expire, answer, attempt=attempt)[1]
         assert "[:n][alive]" not in text and "a[:m] =" not in text, (planted, text)
+    if planted in EXPIRE_REORDERED:          # every row moved: not "not only some"
+        assert "not only some" not in messages and messages.count("original order") >= 2, messages
+        assert "boolean mask" in judged(check.expire, answer, attempt=1)[1]
     if planted == "returns the mask":
         assert "array of shape (200,)" in messages and "True" not in messages   # not 200 booleans
 

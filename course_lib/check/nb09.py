@@ -200,6 +200,14 @@ def emit(ck: Checker, func) -> None:
 _EXPIRE_LINES = 60
 
 
+def _same_rows(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether ``a`` holds the rows of ``b`` in some order (the same multiset of rows)."""
+    a, b = a.reshape(len(a), -1), b.reshape(len(b), -1)
+    if a.shape != b.shape:
+        return False
+    return bool(np.array_equal(a[np.lexsort(a.T[::-1])], b[np.lexsort(b.T[::-1])]))
+
+
 def _expire_hint(data: dict, n: int, work: dict, m: int, expected: dict) -> Hint:
     """The hint for a wrong answer: the one usual mistake whose arrays and count it
     reproduces exactly (none if several do, as when nobody expires)."""
@@ -214,6 +222,11 @@ def _expire_hint(data: dict, n: int, work: dict, m: int, expected: dict) -> Hint
     if len(found) == 1:
         return found.pop()
     wrong = [k for k in data if not np.array_equal(work[k][:survivors], expected[k])]
+    if not found and m == survivors and wrong and all(
+            _same_rows(work[k][:survivors], expected[k]) for k in data):
+        return ("keep the survivors in their original order",
+                f"every survivor is there, but the rows of {wrong} are in another order: gather "
+                "them with the boolean mask, which keeps the order of the rows it selects")
     if not found and m == survivors and len(wrong) < len(data):
         return f"move the rows of every attribute, not only some: wrong in {wrong}"
     return None
