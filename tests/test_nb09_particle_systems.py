@@ -1,5 +1,7 @@
 """Every number quoted in solutions/09_particle_systems.ipynb, and its exercise checks."""
 
+import inspect
+
 import numpy as np
 import pytest
 
@@ -213,6 +215,90 @@ def test_ten_thousand_particles_frame_cost_cell():
     assert round(L / dt) == 120 and round(V / dt) == 30 and abs(L / dt - 120) < 1e-12
     assert f"{10_000 / (L / dt - 0.5):.1f}" == "83.7"
     assert P.steady_population(10_000 / (L / dt - 0.5), dt, L, V) == pytest.approx(10_000, rel=1e-12)
+
+
+def test_frame_cost_is_cpu_time(monkeypatch):
+    """Section 8 and the Summary quote CPU time: a clock that only process_time advances
+    must give the frame cost, and wall time must not be read at all."""
+    class Clock:
+        now = 0.0
+
+        def process_time(self):
+            self.now += 0.0005                       # 1 ms per frame: two reads 0.5 ms apart
+            return self.now
+
+        def perf_counter(self):
+            raise AssertionError("frame_cost read the wall clock")
+
+        time = monotonic = perf_counter
+
+    monkeypatch.setattr(nb09, "time", Clock())
+    cost, live = nb09.frame_cost(2000, frames=5)
+    assert cost == pytest.approx(0.0005, rel=1e-9) and live > 0
+
+
+def _blackbody_srgb(temperature):
+    """sRGB (0-1, brightest channel 1) of a blackbody at ``temperature`` (K): Planck's law
+    against the CIE 1931 matching functions in the multi-lobe fit of Wyman, Sloan and
+    Shirley (2013), which is within a few per cent of the tables."""
+    def lobe(x, mu, s1, s2):
+        return np.exp(-0.5 * ((x - mu) / np.where(x < mu, s1, s2)) ** 2)
+    lam = np.arange(360.0, 831.0)                                   # nm
+    cmf = np.array([
+        1.056 * lobe(lam, 599.8, 37.9, 31.0) + 0.362 * lobe(lam, 442.0, 16.0, 26.7)
+        - 0.065 * lobe(lam, 501.1, 20.4, 26.2),
+        0.821 * lobe(lam, 568.8, 46.9, 40.5) + 0.286 * lobe(lam, 530.9, 16.3, 31.1),
+        1.217 * lobe(lam, 437.0, 11.8, 36.0) + 0.681 * lobe(lam, 459.0, 26.0, 13.8)])
+    metres = lam * 1e-9
+    planck = 1.0 / (metres ** 5 * np.expm1(1.4388e-2 / (metres * temperature)))
+    xyz = cmf @ planck
+    to_rgb = np.array([[3.2406, -1.5372, -0.4986], [-0.9689, 1.8758, 0.0415],
+                       [0.0557, -0.2040, 1.0570]])
+    linear = np.clip(to_rgb @ xyz, 0.0, None)
+    linear /= linear.max()
+    return np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
+
+
+def test_fire_colour_is_an_artistic_ramp():
+    """Cell 19: "a real glowing body at 1600 K looks orange", while the ramp paints it pale
+    yellow (the module comment says the same)."""
+    from course_lib.lessons import nb09_drawings as drawings
+    body = _blackbody_srgb(1600.0)
+    assert body[0] == pytest.approx(1.0) and body[2] < 0.02 and 0.35 < body[1] < 0.55        # orange, ~(255, 115, 0)
+    assert np.allclose(_blackbody_srgb(6500.0), 1.0, atol=0.05)                # the fit: D65 is white
+    ramp = np.array(drawings.TEMPERATURE_COLORS(1.0)[:3])                      # the ramp at 1600 K
+    assert ramp[1] > 0.9 and ramp[2] > 0.7                                     # pale yellow, not orange
+    assert drawings.T_RANGE[1] == 1600.0
+    assert "not physics" in inspect.getsource(drawings).split("TEMPERATURE_COLORS =")[0]
+
+
+def test_genesis_count_spread():
+    """Cell 21: the count per frame is N̄ ± 25 % (Reeves' variance a quarter of the mean),
+    a standard deviation of 14 % per frame; the 60 frames' means add up to 3789, and the
+    total emitted varies by about 80 (2.1 %) from run to run; cell 23: this run's 2.7 %
+    excess is 1.3 standard errors."""
+    emit = nb09.genesis()
+    ps = P.ParticleSystem(3, 1000)
+    rng = np.random.default_rng(1)
+    for t in (0.0, 1.0):
+        emit(ps, t, rng)
+        assert emit.emitter.count_variance == pytest.approx(0.25 * emit.mean_count(t), rel=1e-15)
+    assert f"{0.25 / np.sqrt(3):.0%}" == "14%"
+    means = emit.mean_count(DT * np.arange(60))
+    assert f"{means.sum():.0f}" == "3789"
+    # Var(⌊y + u⌋) = Var(y) + E[f(1 - f)], f the fractional part of y: y = N̄ + 0.25 N̄ U(-1, 1)
+    # has Var(y) = (0.25 N̄)²/3, and 0 <= f(1 - f) <= 1/4 bounds the rounding's share
+    low = np.sqrt(np.sum((0.25 * means) ** 2 / 3))
+    high = np.sqrt(np.sum((0.25 * means) ** 2 / 3 + 0.25))
+    assert 75 < low < high < 85                                                  # "about 80"
+    assert f"{low / means.sum():.1%}" == f"{high / means.sum():.1%}" == "2.1%"
+    z = [0.0272 * means.sum() / se for se in (high, low)]
+    assert f"{z[0]:.1f}" == f"{z[1]:.1f}" == "1.3"
+    # the library's counts have that spread: 400 runs of the 60 counts (SE of the SD 3.5 %)
+    count_rng = np.random.default_rng(2026)
+    totals = [sum(P.reeves_count(m, 0.25 * m, count_rng) for m in means) for _ in range(400)]
+    assert np.mean(totals) == pytest.approx(means.sum(), abs=4 * high / 20)
+    assert low * 0.85 < np.std(totals, ddof=1) < high * 1.15
 
 
 def test_scenes_say_what_they_do():

@@ -16,7 +16,8 @@ from .. import fields
 from ..plotting import EXACT_STYLE
 
 #: Colour of a gas particle by temperature: grey smoke when cold, through dark red and
-#: orange, to a pale yellow flame at 1600 K (roughly what a glowing body looks like).
+#: orange, to a pale yellow flame at 1600 K. An artistic ramp, not physics: a real glowing
+#: body at 1600 K looks orange (blackbody sRGB about (255, 115, 0)).
 TEMPERATURE_COLORS = LinearSegmentedColormap.from_list("fire", [
     (0.0, (0.55, 0.55, 0.55)), (0.12, (0.35, 0.3, 0.3)), (0.3, (0.55, 0.05, 0.0)),
     (0.55, (0.95, 0.35, 0.0)), (0.8, (1.0, 0.75, 0.2)), (1.0, (1.0, 1.0, 0.8))])
