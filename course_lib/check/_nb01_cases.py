@@ -8,12 +8,14 @@ particles are not the first rows, so that deleting from the front of a queue fai
 :func:`cohesion_mistakes` what the usual mistakes make of it, and :func:`cohesion_within`
 the rule for a given neighbour mask (to recognise a mask built with ``<=``).
 :func:`field_points` holds the positions the field checks try.
-Imports NumPy only.
+Imports NumPy and :func:`course_lib.check._answers.as_array`.
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from ._answers import as_array
 
 _RNG_SEED = 2026
 
@@ -147,3 +149,24 @@ def cohesion_mistakes(X, radius: float, expected) -> dict:
             ("the centre is the mean of the NEIGHBOURS within the radius, not of the whole "
              "flock"): X.mean(axis=0) - X,
         }
+
+
+#: Exercise 1 (and 2): an answer right on a cloud (N, 2) but wrong on a grid (n, n, 2).
+GRID_HINT = ("right for a cloud of shape (N, 2), wrong on a grid of shape (n, n, 2): there "
+              "X[:, 1] is a row of points, not the y components (and axis=1 is not the last "
+              "axis). Index the last axis, X[..., 0] and X[..., 1], which works for every shape")
+
+
+#: Exercise 4: an answer whose survivors are right but whose newborns are not as born.
+NEWBORN_HINT = ("the newborns were moved or aged: they appear exactly as born, appended "
+                 "after the survivors have been moved, aged and filtered")
+
+
+def newborns_changed(got, expected, born) -> bool:
+    """Whether an answer has the survivors right but not the newborns as born (moved or aged
+    in any way): its rows before the last ``len(born)`` are right, those rows are not."""
+    a, n = as_array(got), len(born)
+    if a is None or a.shape != np.shape(expected) or n == 0:
+        return False
+    m = len(a) - n
+    return bool(np.allclose(a[:m], expected[:m]) and not np.allclose(a[m:], born))

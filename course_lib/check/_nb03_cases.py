@@ -6,7 +6,8 @@
 - exercise 3: the fourteen matrices (:data:`MATRIX_CASES`) with the kind of mistake a wrong
   verdict on each points to, the hint of each kind (:data:`MATRIX_HINTS`), and wrong rules
   (a norm, the determinant) recognised by their verdicts (:data:`WRONG_RULES`,
-  :func:`follows_rule`).
+  :func:`follows_rule`);
+- exercise 2: the hint for runs too short to reach the blow-up bound (:func:`short_run_hint`).
 
 Imports NumPy and :func:`course_lib.check._answers.kutta3`.
 """
@@ -16,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._answers import kutta3
+from .tolerance import escalate
 
 
 def _two_half_steps(f, t, y, dt):
@@ -158,3 +160,28 @@ def follows_rule(quantity, verdicts: dict) -> bool:
             if not 0.0 < abs(q - 1.0) < 1e-6 and (q <= 1.0) != verdicts[what]:
                 return False
     return True
+
+
+#: Fewer steps than this per run is too short a run for a bound of a million times |y0| or
+#: more: just above the limit a run grows by only a few per cent per step.
+SHORT_RUN = 200
+
+
+def short_run_hint(step: float, n: int, grew: float, r: float):
+    """Hint for a run of ``n`` < :data:`SHORT_RUN` steps of ``step`` s that grew
+    ``grew``-fold (max|y| / max|y0|) and still counted as stable: the steps are the mistake
+    (the same bound passes with long runs). ``r`` is |R| per step 2 % above the limit: the
+    fuller hint says how many steps such a run needs to grow that much, and names the bound
+    too when it is absurd."""
+    nudge = (f"your run at dt = {step:.4g} s took only {n} steps: too few for a run above the "
+             f"limit to reach your blow-up bound (it grew to {grew:.1e} max|y0| and still "
+             "counted as stable)")
+    more = "run thousands of steps, so that even a slow growth passes your bound"
+    if r > 1 + 1e-9:
+        more = (f"2 % above the limit |R| = {r:.4f} per step, so a run needs about "
+                f"{np.log(grew) / np.log(r):.0f} steps to grow {grew:.0e}-fold and pass your "
+                "bound: run at least that many steps")
+    if grew > 1e15:
+        more += ("; and lower the bound: no stable run of these systems grows more than a few "
+                 "times |y0|, so 1000 max|y0| is far enough")
+    return escalate(nudge, more)

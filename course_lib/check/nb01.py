@@ -21,10 +21,13 @@ from ._answers import close as _close
 from ._answers import mistake_hint as _mistake_hint
 from ._nb01_cases import (
     COHESION_LINE_BUDGET,
+    GRID_HINT,
+    NEWBORN_HINT,
     cohesion_cases,
     cohesion_mistakes,
     cohesion_reference,
     field_points,
+    newborns_changed,
 )
 from ._nb01_cases import frame_mistakes as _frame_mistakes
 from ._nb01_cases import particle_cases as _particle_cases
@@ -39,7 +42,6 @@ _SHAPE_HINT = (
 )
 _ROWS_HINT = ("X[0] and X[1] are the first two ROWS (particles) when X has shape (N, 2): "
               "take the columns, X[..., 0] and X[..., 1]")
-
 
 def _index_hint(exc: Exception) -> str | None:
     """The hint for an answer that indexes a single position ``(2,)`` like a cloud ``(N, 2)``."""
@@ -78,7 +80,7 @@ def _diagnosis(answer, reference, mistakes_of) -> Hint:
 
 def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=None,
                  time_check: bool = True, formula: Hint = None) -> None:
-    untouched = True
+    untouched, cloud_right = True, False
     diagnosis = _diagnosis(answer, reference, mistakes_of)
     for what, X in (field_points() if points is None else points):
         expected, mistakes = reference(0.0, X.copy()), _all_mistakes(reference, mistakes_of, X)
@@ -90,7 +92,10 @@ def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=
             continue
         shape_ok = np.shape(got) == X.shape
         hint = diagnosis or _mistake_hint(got, mistakes, formula if shape_ok else _SHAPE_HINT)
-        _close(ck, got, expected, f"{name} at {what}", hint=hint)
+        if X.ndim > 2 and cloud_right:  # right on (N, 2), wrong on (n, n, 2): the axis
+            hint = GRID_HINT
+        right = _close(ck, got, expected, f"{name} at {what}", hint=hint)
+        cloud_right = cloud_right or (X.ndim == 2 and right)
     ck.expect(untouched, f"{name} leaves X unchanged",
               "your function modified the positions it was given",
               "compute a new array; do not assign into X")
@@ -251,8 +256,10 @@ def _one_frame(ck: Checker, particle_frame, what, particles, V, dt, newborn) -> 
         if key not in got:
             continue
         hint = _mistake_hint(got[key], {h: m[key] for h, m in mistakes.items()},
-                             "update, then delete, then create: survivors first, newborns "
-                             "appended at the end")
+                             NEWBORN_HINT if newborns_changed(got[key], expected[key],
+                                                                newborn[key])
+                             else "update, then delete, then create: survivors first, "
+                             "newborns appended at the end")
         _close(ck, got[key], expected[key], f"{what}: the {unit}", hint=hint)
     for key in ("lifetime", "colour"):
         if key in got:
