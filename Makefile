@@ -34,7 +34,10 @@ lab: $(STAMP)
 #   NumPy's SIMD kernels one level down: tests/roundings.py), browser.
 # A failing stage does not stop the later ones; `make test` fails if any failed.
 # pytest exits 5 when it collects nothing; tools/stage.py counts that as a pass.
-PYTEST := $(BIN)/python -m pytest
+# One BLAS thread per process: two pytest-xdist workers on two cores already fill the
+# machine, and OpenBLAS's own threads would fight them (notebook 11's eigenvalue cells
+# measured 0.69 s with its threads, 0.05 s without, on a loaded 2-core machine).
+PYTEST := env OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 $(BIN)/python -m pytest
 NBVAL  := --nbval-current-env --nbval-sanitize-with tests/sanitize.cfg -p no:cacheprovider
 STAGE  := $(PYTHON) tools/stage.py
 # Parallel test processes (pytest-xdist); --dist loadfile keeps a file's tests (a
