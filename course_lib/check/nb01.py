@@ -31,6 +31,7 @@ from ._nb01_cases import (
 )
 from ._nb01_cases import frame_mistakes as _frame_mistakes
 from ._nb01_cases import particle_cases as _particle_cases
+from .tolerance import escalate
 
 _RNG_SEED = 2026
 
@@ -120,8 +121,11 @@ def vortex_field(ck: Checker, vortex_field) -> None:
     def mistakes(X):
         x, y = X[..., 0], X[..., 1]
         return {
-            "that is the clockwise vortex (y, -x): the x-component is -y and the "
-            "y-component is +x, so that (1, 0) moves up, towards (0, 1)": np.stack((y, -x), -1),
+            escalate("that is the clockwise vortex (y, -x): the x-component is -y and the "
+                     "y-component is +x, so that (1, 0) moves up, towards (0, 1)",
+                     "check one point by hand: at X = (1, 0) your V must be (0, 1) (up) and at "
+                     "(0, 1) it must be (-1, 0) (left); yours gives (0, -1) and (1, 0)"):
+                np.stack((y, -x), -1),
             "a minus sign is missing: V = (-y, x), not (y, x)": np.stack((y, x), -1),
             "the components are not swapped: V = (-y, x), not (-x, y)": np.stack((-x, y), -1),
             "that is the radial field (x, y); the vortex swaps the components and negates "

@@ -33,6 +33,7 @@ from . import Checker, exercise
 from ._answers import call, call_analysis, close, one_number, step_cases
 from ._nb02_cases import ORDER_CASES, order_mistakes, order_reference
 from .policy import name_chains
+from .tolerance import escalate
 
 _SLOPE_AT_END = (
     "the slope must be taken at the START of the step, f(t, y); you used the end of "
@@ -116,18 +117,28 @@ RADIUS_LINE_BUDGET = 2000
 def _radius_mistakes(r0, dt, n, k) -> dict:
     with np.errstate(all="ignore"):
         return {
-            ("your answer ignores the pull k: each step also moves X by -k dt X, towards the "
-             "centre"): radius_formula(r0, dt, n),
+            escalate("your answer ignores the pull k: each step also moves X by -k dt X, "
+                     "towards the centre",
+                     "one step maps X to (1 - k dt) X + dt J X: the part along X shrinks by "
+                     "1 - k dt while the turn adds dt J X across it"): radius_formula(r0, dt, n),
             ("the two parts of a step do not multiply: (1 - k dt) X and dt J X are "
              "perpendicular, so their lengths add in squares (Pythagoras)"):
                 r0 * _power(1 - k * dt, n) * (1 + dt * dt) ** (n / 2),
-            "that is the exact whirlpool's radius r0 e^(-k t); forward Euler's differs from it":
+            escalate("that is the exact whirlpool's radius r0 e^(-k t); forward Euler's "
+                     "differs from it",
+                     "find the factor by which ONE forward Euler step multiplies |X| (the "
+                     "length of (1 - k dt) X + dt J X over |X|) and apply it n times"):
                 r0 * np.exp(-k * n * dt),
-            ("each step multiplies |X|² by that factor, so |X| grows by its square root"):
+            escalate("each step multiplies |X|² by that factor, so |X| grows by its square root",
+                     "(1 - k dt)² + dt² is the factor of the SQUARED length; after n steps "
+                     "|X| is r0 times that factor to the power n/2, not n"):
                 r0 * _power((1 - k * dt) ** 2 + dt * dt, n),
             "(k dt)² is missing: |(1 - k dt) X|² = (1 - 2 k dt + k² dt²) |X|²":
                 r0 * _power(max(1 - 2 * k * dt + dt * dt, 0.0), n / 2),
-            "the pull points inwards: a step multiplies the part along X by 1 - k dt, not 1 + k dt":
+            escalate("the pull points inwards: a step multiplies the part along X by 1 - k dt, "
+                     "not 1 + k dt",
+                     "the whirlpool is (-y, x) - k (x, y): the step adds -k dt X, which "
+                     "shortens X for k > 0"):
                 r0 * _power((1 + k * dt) ** 2 + dt * dt, n / 2),
             "the per-step factor is √((1 - k dt)² + dt²), not 1 - k dt + dt":
                 r0 * _power(abs(1 - k * dt + dt), n),

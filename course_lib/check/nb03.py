@@ -33,6 +33,7 @@ from ._nb03_cases import (
     follows_rule,
     short_run_hint,
 )
+from .tolerance import escalate
 
 # --- exercise 1: R(z) of a method, from one step ---------------------------------------
 
@@ -83,11 +84,14 @@ def stability_function(ck: Checker, student) -> None:
                     "R(z) is the state after ONE step of dy/dt = z y with dt = 1 from y = 1")
             zc = np.asarray(z, dtype=complex)
             mistakes = {
-                "you returned the change R - 1; return the new state y_1 = R(z) y_0":
-                    expected - 1,
+                escalate("you returned the change R - 1; return the new state y_1 = R(z) y_0",
+                         "step returns the state after the step, y_1 = R(z) y_0; with y_0 = 1 "
+                         "that IS R(z), nothing to subtract"): expected - 1,
                 "that is R(z)²: take one step, not two": expected**2,
-                "the imaginary part is lost: start from a complex y, not a float array":
-                    expected.real,
+                escalate("the imaginary part is lost: start from a complex y, not a float array",
+                         "a float array cannot hold z y: make y0 complex, e.g. "
+                         "np.ones_like(z, dtype=complex), so that the step keeps the "
+                         "imaginary part"): expected.real,
                 ("you returned |R(z)|, the modulus; return R(z) itself, a complex number "
                  "(its modulus decides stability)"): np.abs(expected),
                 **{f"you returned {name}, a method from the table; measure the method you are "

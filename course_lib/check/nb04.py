@@ -37,23 +37,27 @@ from ._nb04_cases import (
 )
 from ._nb04_cases import linear_mistakes as _linear_mistakes
 from ._nb04_cases import swirl as swirl  # the fields the checks use, as check.swirl
+from .tolerance import escalate
 
 _START_TWICE = (
     "you used the start slope f(t, y) for the whole step (that is forward Euler): take "
     "the slope AGAIN at the midpoint, f(t + dt/2, y_mid), and step with that one"
 )
-_TIME_AT_START = (
+_TIME_AT_START = escalate(
     "the second slope belongs to the middle of the step: evaluate f at time t + dt/2, "
-    "not at t"
-)
+    "not at t",
+    "on a field that changes in time the slope at y_mid must also be taken at the time of "
+    "y_mid, half a step after t: f(t + dt/2, y_mid)")
 _TIME_AT_END = "the second slope belongs to the middle of the step: time t + dt/2, not t + dt"
-_FULL_PREDICTOR = (
-    "the midpoint is half a step away: y_mid = y + (dt/2) f(t, y), not y + dt f(t, y)"
-)
-_HEUN = (
+_FULL_PREDICTOR = escalate(
+    "the midpoint is half a step away: y_mid = y + (dt/2) f(t, y), not y + dt f(t, y)",
+    "the predictor goes half way, the final step the whole way: y_mid uses dt/2, the "
+    "step from y with the slope at y_mid uses dt")
+_HEUN = escalate(
     "that is Heun's method (average of the start and end slopes); the midpoint method "
-    "uses ONE slope, taken at the midpoint"
-)
+    "uses ONE slope, taken at the midpoint",
+    "predict only half a step, y_mid = y + (dt/2) f(t, y), and step the whole dt with the "
+    "single slope f(t + dt/2, y_mid); no average")
 _RETURNED_MID = (
     "you returned the half-step prediction y_mid; the step is y + dt * f(t + dt/2, y_mid)"
 )
