@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 
-from course_lib.check import nb01, nb03
+from course_lib.check import nb01, nb02, nb03, nb04
 from tests.planted import Plant, judge
 
 # --- 01, exercise 1 (and 2): components taken from axis 1 instead of the last axis --------
@@ -116,3 +116,103 @@ def test_the_steps_a_run_needs_follow_from_R_two_per_cent_above_the_limit():
     import math
     assert f"about {math.log(1e8) / math.log(r):.0f} steps" in more
     assert 1800 < math.log(1e8) / math.log(r) < 1850
+
+
+# --- notebook sentences the review found loose (01 cells 25 and 27, 04 cells 4 and 17) -------
+
+def _sources(name: str) -> list[str]:
+    from pathlib import Path
+
+    import nbformat
+
+    root = Path(__file__).resolve().parents[1]
+    return [c.source for c in nbformat.read(root / "solutions" / name, as_version=4).cells]
+
+
+def test_nb01_the_nudge_is_about_a_hundred_last_digits_of_a_5_m_coordinate():
+    """Cell 25: the 1e-13 m nudge is "about a hundred times the last digit that another
+    computer's rounding can change", that digit worth 2^-50 m ≈ 8.9e-16 m at 5 m (the box is
+    10 m wide, so 5 m is a typical coordinate; from 4 to 8 m the ratio is 113)."""
+    import numpy as np
+
+    from course_lib.lessons import nb01_vector_fields as lesson
+
+    assert np.spacing(5.0) == 2.0**-50 and f"{np.spacing(5.0):.1e}" == "8.9e-16"
+    assert 50 < 1e-13 / np.spacing(5.0) < 200 and round(1e-13 / np.spacing(5.0)) == 113
+    assert lesson.run_flock.__defaults__[3] == 10.0          # box (m): coordinates in [0, 10)
+    text = "\n".join(_sources("01_vector_fields.ipynb"))
+    assert "about a hundred times the last digit" in text and "a little above" not in text
+    assert "agree to within about two standard errors" in text
+    assert "agree within their standard errors" not in text
+
+
+def test_nb04_newton_starts_from_the_current_state_and_1_ms_is_a_time_constant():
+    """Cell 4: course_lib's Newton iteration starts from X_n (steppers pass y as the guess);
+    cell 17: 1 ms is the catch-up's time constant 1/κ (κ = 1000 1/s), not its duration."""
+    import numpy as np
+
+    import course_lib as cl
+    from course_lib.lessons import nb04_beyond_euler as lesson
+
+    seen = []
+
+    def f(t, y):
+        seen.append(np.array(y, copy=True))
+        return -1000.0 * y
+
+    y = np.array([1.0, -2.0])
+    for method, first_newton in (("backward_euler", 0), ("trapezoidal", 1)):
+        seen.clear()
+        cl.step(method, f, 0.0, y, 0.1, jac=lambda t, y: -1000.0 * np.eye(2))
+        # the iteration's first evaluation is at its guess: X_n, not X_n + dt f = -99 X_n
+        np.testing.assert_array_equal(seen[first_newton], y)
+    assert lesson.KAPPA == 1000.0 and 1 / lesson.KAPPA == 1e-3
+    text = "\n".join(_sources("04_beyond_euler.ipynb"))
+    assert "starting from the current state $X_n$" in text
+    assert "forward Euler guess and using" not in text
+    assert "catch-up takes 1 ms" not in text and "time constant 1/κ = 1 ms" in text
+
+
+# --- escalation: the most common first hints of 01-04 give a fuller second hint ---------------
+
+def _pair(module, exercise, label, source, nudge, more):
+    """The same wrong answer on a first attempt (the nudge only) and after one failure (the
+    nudge followed by the fuller hint)."""
+    return [(module, Plant(exercise, "misconception", f"{label} (first)", source, "incorrect",
+                           nudge, avoid=more)),
+            (module, Plant(exercise, "misconception", f"{label} (again)", source, "incorrect",
+                           f"{nudge}", attempt=1)),
+            (module, Plant(exercise, "misconception", f"{label} (again, more)", source,
+                           "incorrect", more, attempt=1))]
+
+
+ESCALATING = [
+    *_pair(nb01, "vortex_field", "clockwise vortex",
+           "def vortex_field(t, X):\n    X = np.asarray(X, float)\n"
+           "    return np.stack((X[..., 1], -X[..., 0]), axis=-1)\n",
+           "that is the clockwise vortex", "check one point by hand"),
+    *_pair(nb02, "radius_after", "ignores the pull k",
+           "def radius_after(r0, dt, n, k=0.0):\n    return r0 * (1 + dt * dt) ** (n / 2)\n",
+           "your answer ignores the pull k", "the part along X shrinks by 1 - k dt"),
+    *_pair(nb02, "radius_after", "no square root",
+           "def radius_after(r0, dt, n, k=0.0):\n"
+           "    return r0 * ((1 - k * dt) ** 2 + dt * dt) ** n\n",
+           "grows by its square root", "to the power n/2, not n"),
+    *_pair(nb03, "stability_function", "returns R - 1",
+           "def stability_function(step, z):\n    z = np.asarray(z, dtype=complex)\n"
+           "    return step(lambda t, y: z * y, 0.0, np.ones_like(z), 1.0) - 1\n",
+           "you returned the change R - 1", "nothing to subtract"),
+    *_pair(nb04, "midpoint_step", "Heun instead of the midpoint",
+           "def midpoint_step(f, t, y, dt):\n    k1 = f(t, y)\n"
+           "    return y + 0.5 * dt * (k1 + f(t + dt, y + dt * k1))\n",
+           "that is Heun's method", "no average"),
+    *_pair(nb04, "midpoint_step", "full-step predictor",
+           "def midpoint_step(f, t, y, dt):\n"
+           "    return y + dt * f(t + 0.5 * dt, y + dt * f(t, y))\n",
+           "the midpoint is half a step away", "the predictor goes half way"),
+]
+
+
+@pytest.mark.parametrize("module, plant", ESCALATING, ids=lambda p: getattr(p, "label", ""))
+def test_common_hints_escalate(module, plant):
+    judge(module, plant)

@@ -482,8 +482,10 @@ def test_flock_claims_hold_under_a_last_digit_nudge(nudged):
     """Section 7 and the Summary quote what holds on any machine: the ordering, 16 of 16 (with a
     gap of at least 0.1 on every start), and the means "about 0.9" and "about 0.15", each
     within 0.05 of its measured value with a margin of one standard error to spare, for every
-    nudge. The two columns of the nudge table "agree within their standard errors": any two
-    ensembles' means differ by less than 3 combined standard errors."""
+    nudge. The two columns of the nudge table "agree to within about two standard errors":
+    any two ensembles' means differ by at most 2.5 combined standard errors (1.2 measured, the
+    column without alignment under the 1e-13 m nudge; 2.5 keeps a chaotic redraw on another
+    machine failing about 1 % of the time)."""
     for nudge, (on, off) in nudged.items():
         assert int(np.sum(on > off)) == 16 and np.min(on - off) > 0.1, nudge
         assert abs(on.mean() - 0.9) + _se(on) < 0.05, (nudge, on.mean(), _se(on))
@@ -491,7 +493,7 @@ def test_flock_claims_hold_under_a_last_digit_nudge(nudged):
     base_on, base_off = nudged[0.0]
     for on, off in nudged.values():
         for a, b in ((base_on, on), (base_off, off)):
-            assert abs(a.mean() - b.mean()) <= 3 * math.hypot(_se(a), _se(b))
+            assert abs(a.mean() - b.mean()) <= 2.5 * math.hypot(_se(a), _se(b))
     assert f"{cl.boids.random_polarization(80):.2f}" == "0.10"       # "0.10 for 80"
 
 

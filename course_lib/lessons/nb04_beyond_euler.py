@@ -5,7 +5,7 @@ target ``P(t) = (cos t, sin t)`` that circles the origin once every 2π s,
 
     dX/dt = -κ (X - P(t)),      κ = 1000 1/s by default.
 
-It has two time scales: the particle catches up with the target within ``1/κ = 1 ms``,
+It has two time scales: the particle catches up with the target on the time scale ``1/κ = 1 ms``,
 then follows it around the circle, lagging by about ``1/κ`` rad. The exact solution, in
 complex notation ``z = x + i y``, is ``z(t) = e^{it} κ/(κ + i) + (z0 - κ/(κ + i)) e^{-κt}``.
 An explicit method must resolve the 1 ms scale to stay stable (``κ dt < 2`` for forward
