@@ -387,3 +387,24 @@ def test_the_grader_replays_the_cost_verdicts(name, source, hint):
     assert notebook["status"] == "incorrect" and status in ("incorrect", "error"), (name, status, message)
     assert any(hint in f for f in notebook["failed_cases"]), notebook["failed_cases"]
     assert status == "error" or any(hint in f for f in details["failed_cases"]), (status, message)
+
+
+# --- the prompts say what the checks do ---------------------------------------------------
+
+def test_prompts_quote_the_checks_and_the_known_values():
+    """Cell 36 quotes the separation budget, cell 41 the band and the sizes the grid check
+    uses, cell 14 calls the random flock's values known (the polarization's is a central
+    limit), and cell 20 quotes the twins' 35 s bound that test above asserts."""
+    import nbformat
+    from notebook_helpers import ROOT
+    cells = [c.source for c in nbformat.read(ROOT / "solutions" / "10_flocking.ipynb", as_version=4).cells]
+    text = " ".join(" ".join(c.split()) for c in cells)
+    ex1 = " ".join(next(c for c in cells if "### Exercise 1" in c).split())
+    ex3 = " ".join(next(c for c in cells if "### Exercise 3" in c).split())
+    assert f"at most {check.SEPARATION_LINES} lines of Python per case" in ex1
+    assert cases.BAND == (2.5, 1000.0) and "a band 2.5 m wide and 1 km long, each way round" in ex3
+    sizes = [len(x) for _, x, _, role in cases.grid_cases(check._SEED + 3) if role != "edge"]
+    assert sizes == [2000, 2000, 2000, 8000] and "from 2000 to 8000 points" in ex3
+    assert "would take 32 MB" in ex3 and 2000**2 * 8 == 32e6 and "eight times" not in ex3
+    assert "Both have known values" in text and "exact values for boids" not in text
+    assert "within 0.1 mm after 35 s" in text and "10 μm" not in text
