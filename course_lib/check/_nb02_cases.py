@@ -1,8 +1,9 @@
-"""Case data of notebook 02's order check (:func:`course_lib.check.nb02.observed_order`).
+"""Case data of notebook 02's checks (radius_after and observed_order in course_lib.check.nb02).
 
-The one-step methods the check hands over (forward Euler, Ralston's and Kutta's methods,
-none written out in the notebook), the problems (a pendulum, the double gyre, a forced
-decay), the check's own three-grid estimate :func:`order_reference`, and
+The radius exercise's formula and usual slips (:func:`radius_formula`,
+:func:`_radius_mistakes`). The one-step methods the order check hands over (forward Euler,
+Ralston's and Kutta's methods, none written out in the notebook), the problems (a
+pendulum, the double gyre, a forced decay), the check's own three-grid estimate :func:`order_reference`, and
 :func:`order_mistakes`, what the usual slips make of it, keyed by hint. Imports NumPy and
 (lazily) the double gyre of notebook 02's lesson.
 """
@@ -14,6 +15,7 @@ import math
 import numpy as np
 
 from ._answers import kutta3
+from .tolerance import escalate
 
 
 def _ralston(f, t, y, dt):
@@ -113,3 +115,53 @@ def order_mistakes(step, f, y0, T, n, expected) -> dict:
         ("return the measured p itself, not rounded to a whole order: the point is to see how "
          "close the measurement comes"): float(round(expected)),
     }
+
+
+# The radius exercise (radius_after): the exact answer and the usual slips.
+
+def _power(base: float, n: int) -> float:
+    """``base ** n``, or inf where it overflows (a wrong answer's value, for comparison)."""
+    try:
+        return base**n
+    except OverflowError:
+        return math.inf
+
+
+def radius_formula(r0: float, dt: float, n: int, k: float = 0.0) -> float:
+    """Radius after ``n`` forward Euler steps on the whirlpool ``(-y, x) - k (x, y)``:
+    ``r0 ((1 - k dt)² + dt²)^(n/2)`` (k = 0: the vortex, ``r0 (1 + dt²)^(n/2)``)."""
+    return r0 * ((1.0 - k * dt) ** 2 + dt * dt) ** (n / 2)
+
+
+def _radius_mistakes(r0, dt, n, k) -> dict:
+    with np.errstate(all="ignore"):
+        return {
+            escalate("your answer ignores the pull k: each step also moves X by -k dt X, "
+                     "towards the centre",
+                     "one step maps X to (1 - k dt) X + dt J X: the part along X shrinks by "
+                     "1 - k dt while the turn adds dt J X across it"): radius_formula(r0, dt, n),
+            ("the two parts of a step do not multiply: (1 - k dt) X and dt J X are "
+             "perpendicular, so their lengths add in squares (Pythagoras)"):
+                r0 * _power(1 - k * dt, n) * (1 + dt * dt) ** (n / 2),
+            escalate("that is the exact whirlpool's radius r0 e^(-k t); forward Euler's "
+                     "differs from it",
+                     "find the factor by which ONE forward Euler step multiplies |X| (the "
+                     "length of (1 - k dt) X + dt J X over |X|) and apply it n times"):
+                r0 * np.exp(-k * n * dt),
+            escalate("each step multiplies |X|² by that factor, so |X| grows by its square root",
+                     "(1 - k dt)² + dt² is the factor of the SQUARED length; after n steps "
+                     "|X| is r0 times that factor to the power n/2, not n"):
+                r0 * _power((1 - k * dt) ** 2 + dt * dt, n),
+            "(k dt)² is missing: |(1 - k dt) X|² = (1 - 2 k dt + k² dt²) |X|²":
+                r0 * _power(max(1 - 2 * k * dt + dt * dt, 0.0), n / 2),
+            escalate("the pull points inwards: a step multiplies the part along X by 1 - k dt, "
+                     "not 1 + k dt",
+                     "the whirlpool is (-y, x) - k (x, y): the step adds -k dt X, which "
+                     "shortens X for k > 0"):
+                r0 * _power((1 + k * dt) ** 2 + dt * dt, n / 2),
+            "the per-step factor is √((1 - k dt)² + dt²), not 1 - k dt + dt":
+                r0 * _power(abs(1 - k * dt + dt), n),
+            ("the radius changes by a factor each step: compound it n times instead of adding "
+             "n times the change"): r0 * np.sqrt(max(1 + n * ((1 - k * dt) ** 2 + dt * dt - 1), 0)),
+            "multiply by the starting radius r0": radius_formula(1.0, dt, n, k),
+        }

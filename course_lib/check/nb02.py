@@ -31,9 +31,14 @@ from .. import fields
 from ..integrators import forward_euler, integrate
 from . import Checker, exercise
 from ._answers import call, call_analysis, close, one_number, step_cases
-from ._nb02_cases import ORDER_CASES, order_mistakes, order_reference
+from ._nb02_cases import (
+    ORDER_CASES,
+    _radius_mistakes,
+    order_mistakes,
+    order_reference,
+    radius_formula,
+)
 from .policy import name_chains
-from .tolerance import escalate
 
 _SLOPE_AT_END = (
     "the slope must be taken at the START of the step, f(t, y); you used the end of "
@@ -87,20 +92,6 @@ def forward_euler_step(ck: Checker, student) -> None:
                      "forward Euler is y_next = y + dt * f(t, y)"))
 
 
-def _power(base: float, n: int) -> float:
-    """``base ** n``, or inf where it overflows (a wrong answer's value, for comparison)."""
-    try:
-        return base**n
-    except OverflowError:
-        return math.inf
-
-
-def radius_formula(r0: float, dt: float, n: int, k: float = 0.0) -> float:
-    """Radius after ``n`` forward Euler steps on the whirlpool ``(-y, x) - k (x, y)``:
-    ``r0 ((1 - k dt)² + dt²)^(n/2)`` (k = 0: the vortex, ``r0 (1 + dt²)^(n/2)``)."""
-    return r0 * ((1.0 - k * dt) ** 2 + dt * dt) ** (n / 2)
-
-
 def whirlpool(k: float):
     """The whirlpool field ``V = (-y, x) - k (x, y)`` (m/s), built from course_lib's fields."""
     return fields.compose(fields.vortex, fields.scaled(fields.radial, -k))
@@ -112,40 +103,6 @@ _RADIUS_CASES = [(1.0, 0.5, 3, 0.0), (2.0, 0.1, 63, 0.25), (0.5, 0.25, 10, 1.0),
                  (1.5, 0.5, 6, 3.0), (1.5, 0.05, 0, 0.5), (0.8, 1e-3, 1_000_000, 0.01)]
 #: Lines of Python an answer may run on the million-step case.
 RADIUS_LINE_BUDGET = 2000
-
-
-def _radius_mistakes(r0, dt, n, k) -> dict:
-    with np.errstate(all="ignore"):
-        return {
-            escalate("your answer ignores the pull k: each step also moves X by -k dt X, "
-                     "towards the centre",
-                     "one step maps X to (1 - k dt) X + dt J X: the part along X shrinks by "
-                     "1 - k dt while the turn adds dt J X across it"): radius_formula(r0, dt, n),
-            ("the two parts of a step do not multiply: (1 - k dt) X and dt J X are "
-             "perpendicular, so their lengths add in squares (Pythagoras)"):
-                r0 * _power(1 - k * dt, n) * (1 + dt * dt) ** (n / 2),
-            escalate("that is the exact whirlpool's radius r0 e^(-k t); forward Euler's "
-                     "differs from it",
-                     "find the factor by which ONE forward Euler step multiplies |X| (the "
-                     "length of (1 - k dt) X + dt J X over |X|) and apply it n times"):
-                r0 * np.exp(-k * n * dt),
-            escalate("each step multiplies |X|² by that factor, so |X| grows by its square root",
-                     "(1 - k dt)² + dt² is the factor of the SQUARED length; after n steps "
-                     "|X| is r0 times that factor to the power n/2, not n"):
-                r0 * _power((1 - k * dt) ** 2 + dt * dt, n),
-            "(k dt)² is missing: |(1 - k dt) X|² = (1 - 2 k dt + k² dt²) |X|²":
-                r0 * _power(max(1 - 2 * k * dt + dt * dt, 0.0), n / 2),
-            escalate("the pull points inwards: a step multiplies the part along X by 1 - k dt, "
-                     "not 1 + k dt",
-                     "the whirlpool is (-y, x) - k (x, y): the step adds -k dt X, which "
-                     "shortens X for k > 0"):
-                r0 * _power((1 + k * dt) ** 2 + dt * dt, n / 2),
-            "the per-step factor is √((1 - k dt)² + dt²), not 1 - k dt + dt":
-                r0 * _power(abs(1 - k * dt + dt), n),
-            ("the radius changes by a factor each step: compound it n times instead of adding "
-             "n times the change"): r0 * np.sqrt(max(1 + n * ((1 - k * dt) ** 2 + dt * dt - 1), 0)),
-            "multiply by the starting radius r0": radius_formula(1.0, dt, n, k),
-        }
 
 
 @exercise(allow=(), forbid=("scipy.integrate", np.linalg.matrix_power,
