@@ -8,12 +8,20 @@ Every interactive demo in the course has two halves:
   control changes; it never prints (printing from a widget callback lands in widget state
   and upsets nbval).
 
-:class:`PictureView` shows the figure as a PNG in an image widget (no flicker, no page
-jump) and says "computing…" while it works; :class:`BlitPlot` is a figure whose axes never
-change, so only its moving artists are redrawn (notebooks 02 and 04 use both).
+:class:`ExplorerView` shows the figure as a PNG in an image widget (no flicker, no page
+jump); :class:`PictureView` lets the drawing render its own PNG and says "computing…" while
+it works; :class:`BlitPlot` is a figure whose axes never change, so only its moving artists
+are redrawn (notebooks 02 and 04 use both).
 
 :func:`load_backend`, called by every view, makes a widget's first picture show in a fresh
 kernel (a detached figure never makes pyplot load the inline backend).
+
+No view displays into an ``ipywidgets.Output``: every picture is PNG bytes in an image
+widget. A headless runner (nbclient, hence ``nbconvert --execute``) mimics an Output widget
+by sending each captured output back to the kernel on the shell socket while it waits on
+that socket for the cell's reply, and that reply's wake-up is sometimes lost: the cell then
+returns only at the runner's timeout (45 of 200 such cells under load here, none with an
+image widget; ``tests/test_widgets_headless.py``).
 
 Tests drive a view the way a student does, by setting a control's ``.value``, then assert
 on ``view.result``. Outside a kernel (tests, benchmarks) the figure is drawn off-screen and
@@ -93,6 +101,8 @@ class ExplorerView:
     ----------
     result
         The latest result of ``compute``.
+    image : ipywidgets.Image
+        The figure, as PNG bytes (set on every update in a kernel).
     widget : ipywidgets.VBox
         What to display: the controls above the figure.
     """
@@ -105,13 +115,13 @@ class ExplorerView:
         self.draw = draw
         self.controls = dict(controls)
         self.fixed = dict(fixed or {})
-        self.output = w.Output()
+        self.image = w.Image(format="png")
         self.result = None
         self.figure = None
         for control in self.controls.values():
             control.observe(self._on_change, names="value")
         self.widget = w.VBox([w.HBox(list(self.controls.values()),
-                                     layout=w.Layout(flex_flow="row wrap")), self.output])
+                                     layout=w.Layout(flex_flow="row wrap")), self.image])
         self.update()
 
     @property
@@ -124,19 +134,13 @@ class ExplorerView:
     def update(self) -> None:
         """Recompute from the controls' values and redraw."""
         self.result = self.compute(**self.params)
-        if _in_kernel():
-            from IPython.display import clear_output, display
-
-            with self.output:
-                clear_output(wait=True)
-                with plt.ioff():
-                    self.figure = self.draw(self.result)
-                display(self.figure)
-                plt.close(self.figure)
-        else:
+        with plt.ioff():
             self.figure = self.draw(self.result)
+        if _in_kernel():
+            self.image.value = figure_png(self.figure)
+        else:
             self.figure.canvas.draw()
-            plt.close(self.figure)
+        plt.close(self.figure)
 
     def _ipython_display_(self) -> None:
         from IPython.display import display
@@ -183,6 +187,16 @@ class PictureView(ExplorerView):
         from IPython.display import display
 
         display(self._repr_mimebundle_(), raw=True)
+
+
+def figure_png(fig) -> bytes:
+    """Draw ``fig`` and return it as PNG bytes (its Agg buffer when it has one)."""
+    fig.canvas.draw()
+    if hasattr(fig.canvas, "buffer_rgba"):
+        return png_of(fig)
+    buffer = io.BytesIO()                       # pragma: no cover (non-Agg canvases)
+    fig.savefig(buffer, format="png")
+    return buffer.getvalue()
 
 
 def png_of(fig) -> bytes:
