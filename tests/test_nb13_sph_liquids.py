@@ -623,4 +623,4 @@ def test_long_wrong_arrays_are_summarised():
     verdict = check.evaluate(checks.density, planted(
         "def density(x, m, h, W):\n    return np.ones(len(m))", "density"))
     text = "\n".join(verdict["failed_cases"])
-    assert "values differ; e.g. row" in text and text.count(",") < 40
+    assert "values differ; the worst, row" in text and text.count(",") < 40

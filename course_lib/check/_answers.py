@@ -147,10 +147,13 @@ def close(ck: Checker, got, expected, what: str, *, hint: Hint = None,
         return ck.expect(True, what)
     if mistakes:
         hint = mistake_hint(answer, mistakes, hint)
-    row = np.unravel_index(int(np.argmax(bad)), bad.shape)[0]
-    return ck.expect(False, what, f"{int(bad.sum())} of {bad.size} values differ; e.g. row "
-                     f"{row}: expected {np.round(expected[row], 6)}, got {np.round(answer[row], 6)}",
-                     hint)
+    with np.errstate(invalid="ignore"):     # the row that is off the most (NaN counts as most)
+        gap = np.abs(answer - expected).reshape(len(expected), -1)
+    gap = np.where(np.isnan(gap), np.inf, gap).max(axis=1)
+    row = int(np.argmax(gap))
+    return ck.expect(False, what, f"{int(bad.sum())} of {bad.size} values differ; the worst, row "
+                     f"{row}: expected {np.round(expected[row], 6)}, got {np.round(answer[row], 6)}"
+                     f" (off by {gap[row]:.2g})", hint)
 
 
 def _fmt(x) -> str:
