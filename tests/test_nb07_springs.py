@@ -219,9 +219,31 @@ def test_the_cliff_at_two_over_omega():
     rho = nb07.spectral_radius(nb07.step_matrix("symplectic_euler", 16.0, M, 0.0, 1.01 * unit))
     assert np.log10(above) == pytest.approx(1000 * np.log10(rho), abs=1.0)
     printed_holds(above, ".0e", "2e+123", 1e-10 * above)
-    # the bisection's bound: a state of 1.5 from a 1 nm stretch is a growth by 1.5e9, which
-    # a step 1e-4 above the limit already passes in 1000 steps (so it resolves the limit)
+    # the bisection's bound (a growth of 3.75e8 here, see below) is passed in 1000 steps by
+    # a step 1e-4 above the limit already (so it resolves the limit)
     assert nb07.growth("symplectic_euler", 16.0, M, 0.0, [1.0001 * unit])[0] > 1.5e9
+
+
+def test_the_verdict_line_is_the_growth_at_which_integrate_says_unstable():
+    """Section 4's prose and the cliff panel's dotted line: from a 1 nm stretch the state
+    passes 1.5 when the speed ω|x| passes 1.5 m/s (ω > 3 rad/s) or the stretch 0.5 m:
+    5e8 at k = 1 and 4 N/m, 3.75e8 at 16 N/m (the panel), 0.94e8 at 256 N/m."""
+    expected = {1.0: 5e8, 4.0: 5e8, 16.0: 3.75e8, 64.0: 1.875e8, 256.0: 9.375e7}
+    for k, value in expected.items():
+        assert nb07.verdict_growth(k, M) == pytest.approx(value, rel=1e-12), k
+        # integrate's own verdict just past the limit: the largest stretch before the step
+        # that is declared unstable, and at it, bracket the growth within one step's factor
+        for ratio in (1.0001, 1.001):
+            dt = ratio * 2 / np.sqrt(k / M)
+            rho = nb07.spectral_radius(nb07.step_matrix("symplectic_euler", k, M, 0.0, dt))
+            system, y0, _ = S.anchored_spring(k, M, stretch=1e-9)
+            run = cl.integrate(system, y0, (0.0, 1000 * dt), dt, "symplectic_euler",
+                               blowup_bound=1.5)
+            stretch = np.abs(cl.split_state(run.y)[0][:, 1, 0] - 1.0) / 1e-9
+            before, at = stretch[:run.blowup_step].max(), stretch[run.blowup_step]
+            assert before < value * rho and at > value / rho, (k, ratio, before, at)
+    printed_holds(nb07.verdict_growth(16.0, M), ".3g", "3.75e+08", 1e-12 * 3.75e8)
+    printed_holds(nb07.verdict_growth(256.0, M) / 1e8, ".2f", "0.94", 1e-12)
 
 
 def _jury_vv(zeta, w):
@@ -562,7 +584,7 @@ PLANTS = [
           "the damping force opposes the stretching rate"),
     Plant("network_forces", "other", "a failure shows the worst row, not the whole array",
           NETWORK_RIGHT.replace("np.add.at(F, j, -f)", "np.add.at(F, j, f)"), "incorrect",
-          "values differ; e.g. row"),
+          "values differ; the worst, row"),
     Plant("network_forces", "delegating", "cl.springs.SpringNetwork",
           "def network_forces(x, v, i, j, rest, k, c):\n"
           "    return cl.springs.SpringNetwork(i, j, rest, k, c, len(x)).forces(x, v)",

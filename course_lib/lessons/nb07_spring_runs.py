@@ -35,7 +35,10 @@ from .nb07_spring_limits import (
 )
 
 __all__ = ["SpringRun", "damped_dt_limit", "matrix_powers", "run_spring", "settling_time",
-           "spectral_radius", "spring_dt_max", "step_matrix"]
+           "spectral_radius", "spring_dt_max", "step_matrix", "verdict_growth"]
+
+#: :func:`spring_dt_max`'s runs: released this far from rest (m), unstable past this (m or m/s).
+RELEASE, BLOWUP_BOUND = 1e-9, 1.5
 
 
 @dataclass
@@ -115,18 +118,30 @@ def spring_dt_max(k: float, m: float = 1.0, method: str = "symplectic_euler",
     ``n_steps`` steps of the 3D anchored spring.
 
     The spring (rest length 1 m) starts stretched by 1 nm; a run whose state grows past
-    1.5 (m or m/s), i.e. a stretch of 0.5 m or a speed of 1.5 m/s, is declared unstable.
-    That is a growth by more than 10⁸, caught while the motion is still linear (the mass
-    never reaches the anchor).
+    1.5 (m or m/s), i.e. a stretch of 0.5 m or a speed of 1.5 m/s, is declared unstable:
+    a growth by :func:`verdict_growth` (about 10⁸), caught while the motion is still
+    linear (the mass never reaches the anchor).
     """
-    system, y0, _ = anchored_spring(k, m, stretch=1e-9)
+    system, y0, _ = anchored_spring(k, m, stretch=RELEASE)
     scale = np.sqrt(m / k)
 
     def stable(dt):
         return integrate(system, y0, (0.0, n_steps * dt), dt, method=method,
-                         blowup_bound=1.5).stable
+                         blowup_bound=BLOWUP_BOUND).stable
 
     return bisect_stable_dt(stable, 0.5 * scale, 3.0 * scale, rtol)
+
+
+def verdict_growth(k: float, m: float = 1.0, rest: float = 1.0) -> float:
+    """Growth of the stretch, relative to the release, at which :func:`spring_dt_max`'s
+    runs are declared unstable just past the limit 2/ω (dimensionless).
+
+    There a step flips the stretch and keeps its size, so the speed is ω|x|: the state
+    passes :data:`BLOWUP_BOUND` when the speed does (|x| = 1.5/ω m) or the position
+    ``rest + x`` does (x = 0.5 m), whichever comes first.
+    """
+    omega = np.sqrt(k / m)
+    return float(min(BLOWUP_BOUND - rest, BLOWUP_BOUND / omega) / RELEASE)
 
 
 def settling_time(t, x, tol: float = 0.01) -> float:

@@ -23,11 +23,12 @@ from .nb07_spring_limits import (
     velocity_verlet_gap_end,
     velocity_verlet_windows,
 )
-from .nb07_spring_runs import SpringRun, run_spring, settling_time, spring_dt_max
+from .nb07_spring_runs import SpringRun, run_spring, settling_time, spring_dt_max, verdict_growth
 from .nb07_spring_view import SpringPlot, draw_damped_limits, draw_spring_run, spring_explorer
 
 __all__ = ["SpringPlot", "SpringRun", "damped_dt_limit", "draw_damped_limits", "draw_spring_run",
            "growth", "limit_text",
            "matrix_powers", "run_spring", "scan_windows", "settling_time", "spectral_radius",
            "spring_dt_max", "spring_explorer", "stable_windows", "step_matrix",
-           "symplectic_euler_limit", "velocity_verlet_gap_end", "velocity_verlet_windows"]
+           "symplectic_euler_limit", "velocity_verlet_gap_end", "velocity_verlet_windows",
+           "verdict_growth"]
