@@ -249,17 +249,21 @@ def test_static_friction():
     assert sliding.y[-1, 1, 0, 0] == pytest.approx(6.0 - mu * G, rel=1e-9)
     assert round(6.0 - mu * G, 3) == 1.095 and round(sliding.y[-1, 0, 0, 0] * 1000, 1) == 553.0
     assert np.allclose(np.diff(sliding.y[:, 1, 0, 0]), (6.0 - mu * G) * 1e-3, atol=1e-12)
-    # printed beside x: ½ a t² = 547.5 mm; the excess 5.5 mm is the drift F dt T/m = 6 mm less
-    # half a step of the acceleration, ½ a dt T = 0.5 mm (the kick-drift-respond order of a
-    # step: x_n = a dt² n(n-1)/2 + n F dt²/m, exactly)
+    # printed beside x: ½ a t² = 547.5 mm; the excess 5.5 mm is friction acting after the
+    # drift, μ g dt T = 4.9 mm, plus symplectic Euler's half-step lead ½ a dt T = 0.55 mm
+    # (the kick-drift-respond order of a step: x_n = a dt² n(n-1)/2 + n F dt²/m, exactly,
+    # = a dt² n(n+1)/2 + n μ g dt²)
     a, n, dt = 6.0 - mu * G, 1000, 1e-3
     assert round(500 * a, 1) == 547.5
     assert sliding.y[-1, 0, 0, 0] == pytest.approx(a * dt**2 * n * (n - 1) / 2 + n * 6.0 * dt**2,
                                                    rel=1e-9)
     excess = sliding.y[-1, 0, 0, 0] - 0.5 * a
     assert round(excess * 1000, 1) == 5.5 and round(6.0 * dt * 1000) == 6
-    assert round(0.5 * a * dt * 1000, 1) == 0.5
+    assert round(0.5 * a * dt * 1000, 2) == 0.55 and round(mu * G * dt * 1000, 1) == 4.9
     assert excess == pytest.approx(6.0 * dt - 0.5 * a * dt, rel=1e-6)
+    assert excess == pytest.approx(mu * G * dt + 0.5 * a * dt, rel=1e-6)    # the notebook's split
+    assert sliding.y[-1, 0, 0, 0] == pytest.approx(a * dt**2 * n * (n + 1) / 2 + n * mu * G * dt**2,
+                                                   rel=1e-9)
 
 
 def test_wind_exact_solution():
