@@ -5,6 +5,7 @@ for one n. Each answer is written the way a notebook cell writes it."""
 
 import numpy as np
 import pytest
+from test_nb10_flocking import _SWEEP
 
 from course_lib.check import FAILURES, evaluate
 from course_lib.check import _nb10_cases as cases
@@ -341,20 +342,8 @@ def neighbour_pairs(x, radius):
     return np.concatenate(i_all), np.concatenate(j_all)
 """
 
-VECTORIZED_SWEEP = """
-def neighbour_pairs(x, radius):
-    x = np.asarray(x, dtype=float)
-    order = np.argsort(x[:, 0], kind="stable")
-    xs = x[order]
-    hi = np.searchsorted(xs[:, 0], xs[:, 0] + radius, "right")
-    count = hi - np.arange(len(x)) - 1
-    a = np.repeat(np.arange(len(x)), count)
-    b = a + 1 + np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-    d = xs[b] - xs[a]
-    keep = (d ** 2).sum(axis=1) <= radius ** 2
-    i, j = order[a[keep]], order[b[keep]]
-    return np.minimum(i, j), np.maximum(i, j)
-"""
+#: the sweep of test_nb10_flocking's planted answers, one source for both files
+VECTORIZED_SWEEP = _SWEEP
 
 
 @pytest.mark.parametrize("name, source, hint", [

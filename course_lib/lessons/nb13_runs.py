@@ -45,17 +45,9 @@ FRONT_RUNS = {"450 particles": (450, {}),
               "800, gate at √(ga)": (N_DAM, {"gate_speed": GATE_SPEED})}
 
 
-@dataclass
-class DamRun:
-    """A dam break of column width ``a`` (m): times ``t`` (s) and fronts ``z`` (m) at the
-    start and after every step, the frames, the CPU time (s) and the simulation."""
-
-    t: np.ndarray
-    z: np.ndarray
-    a: float
-    frames: sph.Frames | None
-    cpu: float
-    sim: sph.Simulation
+class _MartinMoyce:
+    """Martin & Moyce's (1952) normalisation of a front ``z`` (m) at times ``t`` (s) for a
+    column of width ``a`` (m): ``T = t √(2g/a)`` and ``Z = z / a``."""
 
     @property
     def T(self) -> np.ndarray:
@@ -66,6 +58,20 @@ class DamRun:
     def Z(self) -> np.ndarray:
         """Martin & Moyce's front ``z / a``."""
         return self.z / self.a
+
+
+@dataclass
+class DamRun(_MartinMoyce):
+    """A dam break of column width ``a`` (m): times ``t`` (s) and fronts ``z`` (m) at the
+    start and after every step, the frames, the CPU time (s) and the simulation."""
+
+    t: np.ndarray
+    z: np.ndarray
+    a: float
+    frames: sph.Frames | None
+    cpu: float
+    sim: sph.Simulation
+
 
     @property
     def viscosity(self) -> float:
@@ -136,7 +142,7 @@ STORED_FRONTS = Path(__file__).with_name("nb13_fronts.npz")
 
 
 @dataclass
-class StoredFront:
+class StoredFront(_MartinMoyce):
     """A stored dam-break front: times ``t`` (s) and fronts ``z`` (m) after every step,
     column width ``a`` (m) and viscosity ν (m²/s); ``T``, ``Z`` as in :class:`DamRun`."""
 
@@ -144,16 +150,6 @@ class StoredFront:
     z: np.ndarray
     a: float
     viscosity: float
-
-    @property
-    def T(self) -> np.ndarray:
-        """Martin & Moyce's time ``t √(2g/a)``."""
-        return self.t * np.sqrt(2 * scenes.G / self.a)
-
-    @property
-    def Z(self) -> np.ndarray:
-        """Martin & Moyce's front ``z / a``."""
-        return self.z / self.a
 
 
 def make_stored_fronts(path: Path | None = STORED_FRONTS) -> dict[str, StoredFront]:

@@ -32,24 +32,24 @@ def is_dirty(page) -> bool:
     return page.evaluate(f"() => {NB}.context.model.dirty")
 
 
-def rerun(page, index: int) -> None:
-    """Run cell ``index`` again (as a student does, out of order) and wait for the kernel."""
-    page.evaluate(f"""async (i) => {{
+def _run(page, index: int, command: str, timeout_ms: int) -> None:
+    """Make cell ``index`` active, run JupyterLab's ``command`` and wait for the kernel."""
+    page.evaluate(f"""async ([i, command]) => {{
         const w = {NB};
         w.content.activeCellIndex = i;
-        await window.jupyterapp.commands.execute('notebook:run-cell');
-      }}""", index)
-    page.wait_for_function(READY, timeout=120_000, polling=250)
+        await window.jupyterapp.commands.execute(command);
+      }}""", [index, command])
+    page.wait_for_function(READY, timeout=timeout_ms, polling=250)
+
+
+def rerun(page, index: int) -> None:
+    """Run cell ``index`` again (as a student does, out of order) and wait for the kernel."""
+    _run(page, index, "notebook:run-cell", 120_000)
 
 
 def run_above(page, index: int) -> None:
     """Run every cell above cell ``index`` (JupyterLab's Run All Above) and wait."""
-    page.evaluate(f"""async (i) => {{
-        const w = {NB};
-        w.content.activeCellIndex = i;
-        await window.jupyterapp.commands.execute('notebook:run-all-above');
-      }}""", index)
-    page.wait_for_function(READY, timeout=300_000, polling=250)
+    _run(page, index, "notebook:run-all-above", 300_000)
 
 
 def outputs_of(page, index: int) -> list[str]:
