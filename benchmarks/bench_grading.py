@@ -9,8 +9,11 @@ cells left out): every kind of answer once, then kinds drawn with the generator'
   client, the scheduler, the Dask worker and every sandboxed worker it started), with one
   worker of one thread. A full notebook of the kit costs a few seconds more of CPU each.
 - **Speedup**: wall time with one worker over wall time with two (one thread each),
-  measured in one run on the same class. It needs two idle cores; the note gives the load
-  average, since on a shared machine other processes take the second core.
+  measured in one run on the same class, each worker warmed first (its imports and its
+  sandbox runtime, made once per worker in a real run too). The gradings alternate
+  1, 2, 1, 2 workers and each count keeps its faster run: on a shared virtual machine one
+  grading of 16 took 29 to 34 s within minutes. It needs two idle cores; the note gives
+  the load average, since on a shared machine other processes take the second core.
 
 ``quick=True`` (the test suite's smoke run) grades one submission once on this machine
 without a cluster; the Dask path itself, and that a local run and a cluster write the same
@@ -35,6 +38,13 @@ def _cpu() -> float:
     return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
 
 
+def _warm() -> None:
+    """What a worker does once before its first submission: import the grader, make its runtime."""
+    from course_lib.instructor import cluster
+
+    cluster._worker_runtime()
+
+
 def _grade(folder: Path, out: Path, workers: int) -> tuple[float, float]:
     """Wall and CPU seconds (all processes) to grade ``folder`` on ``workers`` Dask workers
     (``workers=0``: on this machine without Dask, the quick smoke test's way)."""
@@ -52,7 +62,7 @@ def _grade(folder: Path, out: Path, workers: int) -> tuple[float, float]:
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                       dashboard_address=None) as cluster, Client(cluster) as client:
         client.wait_for_workers(workers)
-        client.run(lambda: None)
+        client.run(_warm)
         start = time.perf_counter()
         grade_class([folder], out, solutions=ROOT / "solutions", limits=limits, progress=False,
                     scheduler=client)
@@ -71,7 +81,11 @@ def run(quick: bool = False) -> list[Row]:
             wall2, same = wall1, True
         else:
             wall2, _ = _grade(made["submissions"], Path(tmp) / "two.csv", 2)
-            same = (Path(tmp) / "one.csv").read_bytes() == (Path(tmp) / "two.csv").read_bytes()
+            again1, _ = _grade(made["submissions"], Path(tmp) / "one-again.csv", 1)
+            again2, _ = _grade(made["submissions"], Path(tmp) / "two-again.csv", 2)
+            wall1, wall2 = min(wall1, again1), min(wall2, again2)
+            books = [(Path(tmp) / f).read_bytes() for f in ("one.csv", "two.csv", "one-again.csv", "two-again.csv")]
+            same = all(b == books[0] for b in books)
     per_minute = n / (cpu1 / 60)
     speedup = wall1 / wall2
     load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
@@ -85,6 +99,6 @@ def run(quick: bool = False) -> list[Row]:
         Row(f"grading speedup, LocalCluster 1 → 2 workers (same {n} submissions)", wall2,
             "≥ 1.7× on a quiet 2-core machine", speedup >= 1.7 and same,
             ratio=f"{speedup:.2f}×",
-            note=f"wall {wall1:.1f} s → {wall2:.1f} s; gradebooks identical: {same}; "
+            note=f"wall {wall1:.1f} s → {wall2:.1f} s, the faster of two runs each; gradebooks identical: {same}; "
                  f"load average {load} on {os.cpu_count()} cores"),
     ]
