@@ -39,6 +39,7 @@ CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networki
                  "--disable-quic"]
 SHOTS = ROOT / "build" / "browser-screenshots"
 TOKEN = "course-browser-test"
+SITE_PAGES = ["01_vector_fields", "03_stability"]
 
 
 def _asked_for(config) -> bool:
@@ -61,6 +62,28 @@ def pytest_configure(config):
 def pytest_ignore_collect(collection_path, config):
     """Collect this folder only when asked for by path (``pytest tests/browser``)."""
     return not _asked_for(config)
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_collection_modifyitems(config, items):
+    """Keep each ``xdist_group`` on one worker under pytest 9. pytest-xdist 3.8 marks a
+    group by appending ``@name`` to ``item._nodeid``, which pytest 9 no longer reads (the
+    id lives in ``item._id``): the groups were silently split and the site built on both
+    workers. We append the suffix where pytest 9 keeps the id, once."""
+    if not getattr(config.option, "loadgroup", False):  # set on xdist workers only
+        return
+    for item in items:
+        names = sorted({str(m.args[0] if m.args else m.kwargs.get("name", "default"))
+                        for m in item.iter_markers("xdist_group")})
+        if not names or "@" in item.nodeid.rpartition("]")[2].rpartition("::")[2]:
+            continue
+        grouped = f"{item.nodeid}@{'_'.join(names)}"
+        if hasattr(item, "_id"):
+            from _pytest.nodeid import NodeId
+
+            item._id = NodeId.parse(grouped)
+        else:
+            item._nodeid = grouped
 
 
 @pytest.hookimpl(wrapper=True)
@@ -155,7 +178,7 @@ def wait_http(url, proc: subprocess.Popen, log: Path, timeout: float = 90) -> st
         now = url(log.read_text()) if callable(url) else url
         if now is not None and _answers(now):
             return now
-        time.sleep(0.5)
+        time.sleep(0.2)
     raise RuntimeError(f"no answer from {url}:\n{log.read_text()[-3000:]}")
 
 
@@ -231,3 +254,16 @@ def lab(browser, tmp_path_factory):
 
     with server(cmd, fresh_jupyter_env(root / "home"), root, log, status_url) as proc:
         yield Lab(proc.ready_url.split("/api/")[0], root, log)
+
+
+@pytest.fixture(scope="session")
+def site(browser, tmp_path_factory):
+    """The site of notebooks 01 and 03, built as ``make site`` builds it (executed afresh),
+    once per run: the site and accessibility tests share it, and their modules are in the
+    ``site`` xdist group, so one worker builds it while the other drives JupyterLab."""
+    from course_lib.instructor import site as builder
+
+    out = tmp_path_factory.mktemp("site") / "site"
+    builder.build(out, ROOT / "solutions", only=SITE_PAGES, run=True, jobs=2,
+                  log=lambda *a: None)
+    return out

@@ -22,14 +22,33 @@ READY = f"""() => {{
 }}"""
 
 
-def open_notebook(page, lab, path: str) -> None:
-    """Open ``path`` (relative to the served folder) and wait for an idle kernel."""
+#: the notebook's model is loaded and its session exists (its kernel may still be starting)
+LOADED = f"""() => {{
+  const w = window.jupyterapp && {NB};
+  return !!w && !!w.context && w.context.isReady && w.content.widgets.length > 0
+    && !!(w.sessionContext && w.sessionContext.session);
+}}"""
+
+
+def open_notebook(page, lab, path: str, *, kernel: bool = True) -> None:
+    """Open ``path`` (relative to the served folder) and wait for an idle kernel, or, with
+    ``kernel=False`` (a test of stored outputs only), for the model and the session: the
+    kernel goes on starting, unwaited for, and ``lab.shutdown_kernels()`` stops it."""
     page.goto(lab.url(path))
-    page.wait_for_function(READY, timeout=120_000, polling=250)
+    page.wait_for_function(READY if kernel else LOADED, timeout=120_000, polling=100)
 
 
 def is_dirty(page) -> bool:
-    return page.evaluate(f"() => {NB}.context.model.dirty")
+    """Whether the notebook is modified, asked once the notebook has taken the kernel's
+    spec and language_info into its metadata (JupyterLab does it just after the kernel
+    connects; a stored notebook that differs turns 'modified' then)."""
+    return page.evaluate(f"""async () => {{
+        const w = {NB};
+        const k = w.sessionContext.session.kernel;
+        await Promise.all([k.info, k.spec]);
+        await new Promise(r => setTimeout(r, 200));  // the panel's own handlers of them
+        return w.context.model.dirty;
+      }}""")
 
 
 def _run(page, index: int, command: str, timeout_ms: int) -> None:
@@ -39,7 +58,7 @@ def _run(page, index: int, command: str, timeout_ms: int) -> None:
         w.content.activeCellIndex = i;
         await window.jupyterapp.commands.execute(command);
       }}""", [index, command])
-    page.wait_for_function(READY, timeout=timeout_ms, polling=250)
+    page.wait_for_function(READY, timeout=timeout_ms, polling=100)
 
 
 def rerun(page, index: int) -> None:

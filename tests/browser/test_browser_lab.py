@@ -44,7 +44,6 @@ def output_text(page) -> str:
 
 def open_unmodified(page, lab, name: str) -> None:
     labpage.open_notebook(page, lab, f"notebooks/{name}.ipynb")
-    time.sleep(1.0)  # JupyterLab updates the metadata just after the kernel connects
     assert not labpage.is_dirty(page), (
         f"{name} turns 'modified' as soon as it opens: its stored kernelspec or language_info "
         "differs from what the kernel reports (re-run `make execute` and `make student`)")
@@ -84,8 +83,9 @@ def check_animations(page) -> int:
         assert player.get_attribute("data-frame") == "0"
         # the controls at the top of the view, the cell's top above it: a click that
         # selected the cell would scroll the cell's top into view
-        player.locator(".clp-bar").evaluate("b => b.scrollIntoView({block: 'start'})")
-        time.sleep(0.3)
+        player.locator(".clp-bar").evaluate("""b => new Promise(done => {
+            b.scrollIntoView({block: 'start'});  // then two frames: scrolled and laid out
+            requestAnimationFrame(() => requestAnimationFrame(done)); })""")
         y0 = img.bounding_box()["y"]
         player.locator("[data-act=play]").click()
         page.wait_for_function("(el) => el.getAttribute('data-frame') !== '0'",
@@ -164,7 +164,7 @@ def test_solution_opened_without_running_shows_its_pictures(page, lab, name):
     """On a fresh machine a stored solution is untrusted: its animations must still show a
     frame, and a picture of each widget's key states must sit beside the widget."""
     try:
-        labpage.open_notebook(page, lab, f"solutions/{name}.ipynb")
+        labpage.open_notebook(page, lab, f"solutions/{name}.ipynb", kernel=False)
         found = page.evaluate(f"""() => {labpage.NB}.content.widgets.map(c => {{
             if (c.model.type !== 'code') return '';
             const kinds = Array.from({{length: c.model.outputs.length}}, (_, j) =>

@@ -15,17 +15,8 @@ import json
 
 import pytest
 
-from conftest import ROOT
-
-
-@pytest.fixture(scope="module")
-def site(tmp_path_factory):
-    """One page built from the stored outputs (no execution: only the math matters here)."""
-    from course_lib.instructor import site as builder
-
-    out = tmp_path_factory.mktemp("a11y-site") / "site"
-    builder.build(out, ROOT / "solutions", only=["03_stability"], run=False, log=lambda *a: None)
-    return out
+# the site fixture (conftest) is built once, on the worker that runs the site tests
+pytestmark = pytest.mark.xdist_group("site")
 
 
 def _open_with_settings(page, site, **settings) -> None:

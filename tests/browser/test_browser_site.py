@@ -5,21 +5,11 @@ from __future__ import annotations
 
 import pytest
 
-from conftest import ROOT
+from conftest import SITE_PAGES
 
 pytestmark = pytest.mark.xdist_group("site")  # one worker builds it
 
-PAGES = ["01_vector_fields", "03_stability"]
-
-
-@pytest.fixture(scope="module")
-def site(browser, tmp_path_factory):
-    """The site of notebooks 01 and 03, built as ``make site`` builds it (executed afresh)."""
-    from course_lib.instructor import site as builder
-
-    out = tmp_path_factory.mktemp("site") / "site"
-    builder.build(out, ROOT / "solutions", only=PAGES, run=True, jobs=2, log=lambda *a: None)
-    return out
+PAGES = SITE_PAGES  # the session fixture ``site`` (conftest) builds them, executed afresh
 
 
 def open_page(page, site, name: str) -> None:

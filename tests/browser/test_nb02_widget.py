@@ -50,7 +50,7 @@ def test_spiral_explorer_answers_its_slider(page, lab):
 
 def test_solution_shows_the_player_beside_the_explorer(page, lab):
     try:
-        labpage.open_notebook(page, lab, f"solutions/{NAME}.ipynb")
+        labpage.open_notebook(page, lab, f"solutions/{NAME}.ipynb", kernel=False)
         kinds = page.evaluate(f"""() => {labpage.NB}.content.widgets.map(c => {{
             if (c.model.type !== 'code') return '';
             return Array.from({{length: c.model.outputs.length}}, (_, j) =>
