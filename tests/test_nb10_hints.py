@@ -397,3 +397,36 @@ def test_prompts_quote_the_checks_and_the_known_values():
     assert "would take 32 MB" in ex3 and 2000**2 * 8 == 32e6 and "eight times" not in ex3
     assert "Both have known values" in text and "exact values for boids" not in text
     assert "within 0.1 mm after 35 s" in text and "10 μm" not in text
+
+
+# --- a capped measurement is quoted as a lower bound ---------------------------------------
+
+#: All pairs in blocks of 100 rows: never an N × N table, but N² work, so the 8000-point case
+#: hits the growth cap (a case of this file's own, beside the reviewer's row-at-a-time loop).
+BLOCKS = """
+def neighbour_pairs(x, radius):
+    x = np.asarray(x, float)
+    i_all, j_all = [np.zeros(0, int)], [np.zeros(0, int)]
+    for start in range(0, len(x), 100):
+        d = x[None, :, :] - x[start:start + 100, None, :]
+        a, b = np.nonzero((d ** 2).sum(axis=2) <= radius ** 2)
+        a = a + start
+        keep = a < b
+        i_all.append(a[keep])
+        j_all.append(b[keep])
+    return np.concatenate(i_all), np.concatenate(j_all)
+"""
+
+
+@pytest.mark.parametrize("name, source", [
+    ("all pairs, a row at a time", ROWS), ("all pairs in blocks of 100 rows", BLOCKS),
+    ("a sweep looping over the points", SWEEP_LOOP.format(axis=0))])
+def test_a_capped_cost_is_quoted_as_at_least(name, source):
+    """The check stops measuring once an answer passes its cap, so the ratio it quotes is a
+    lower bound: every quoted ratio says "at least" and that the measurement stopped."""
+    status, failed = judged(check.neighbour_pairs, answer(source, "neighbour_pairs"))
+    assert status == "incorrect", (name, failed)
+    quoted = [f for f in failed if "times what it allocated" in f]
+    assert quoted, (name, failed)
+    for f in quoted:
+        assert "at least" in f and "stopped at that cap" in f, f

@@ -176,8 +176,9 @@ def stop_verdict(what: str, x: np.ndarray, role: str, stop: BaseException, swept
     ``role``; ``swept`` says a band has already found a sweep."""
     if role == "band":
         return False, f"{what}: the cost does not depend on the region's shape", \
-            f"{stop} on 2000 points in this band, {SHAPE_LIMIT:g} times what it allocated for " \
-            "2000 in the 50 m square (a grid: about the same)", _sweep_hint(x)
+            f"{stop} on 2000 points in this band, at least {SHAPE_LIMIT:g} times what it allocated " \
+            "for 2000 in the 50 m square (the measurement stopped at that cap; a grid: about the " \
+            "same)", _sweep_hint(x)
     swept_hint = ("like the bands, this points to a sweep along one axis: bin the points into "
                   "cells instead", GRID_MORE)
     if type(stop).__name__ == "TooLong":
@@ -186,7 +187,8 @@ def stop_verdict(what: str, x: np.ndarray, role: str, stop: BaseException, swept
     if role == "base":
         return False, f"{what}: memory held at once", f"{stop} for {len(x)} points", TABLE_HINT
     return False, f"{what}: the cost grows as N", \
-        f"{stop} for {len(x)} points, {GROWTH_LIMIT:.1f} times what it allocated for 2000", \
+        f"{stop} for {len(x)} points, at least {GROWTH_LIMIT:.1f} times what it allocated for 2000 " \
+        "(the measurement stopped at that cap)", \
         swept_hint if swept else ("that grows faster than N, like all pairs tested a row at a time "
                                   "(16 times as much for 4 times the points) or a sweep along one "
                                   "axis (8); a grid allocates about 4", GRID_MORE)
