@@ -361,6 +361,16 @@ JACOBIAN_PLANTED = {
          "did you leave it out, or clamp it at 0"),
     "d for u everywhere": (_d_for_u, "incorrect", "need the unit vector"),
     "the whole block scaled by the stretch": (_scaled_block, "incorrect", "the full k, whatever the stretch"),
+    # the identity in place of the projection across the spring, written two ways
+    "(1 - L/ℓ) I for (1 - L/ℓ)(I - u uᵀ)": (lambda xi, xj, k, rest: _block(xi, xj, k, rest, geometric=False)
+                                           - k * (1 - rest / np.linalg.norm(xi - xj)) * np.eye(3),
+                                           "incorrect", "not the whole identity"),
+    "the tension over the length times I, sideways": ((
+        "def spring_jacobian(xi, xj, k, rest):\n"
+        "    d = xi - xj\n"
+        "    ell = np.sqrt(d @ d)\n"
+        "    return -k * np.outer(d, d) / ell**2 - k * (ell - rest) / ell * np.eye(3)",
+        "spring_jacobian"), "incorrect", "not the whole identity"),
     "central differences of the force (close, not exact)": ((
         "def spring_jacobian(xi, xj, k, rest):\n"
         "    def force(a):\n"
@@ -374,7 +384,8 @@ JACOBIAN_PLANTED = {
 #: Hints that name one mistake each: no planted answer may get another's.
 JACOBIAN_HINTS = ("sign: moving", "you kept only the stiffness along", "did you leave it out, or clamp",
                   "at ℓ = L", "divided by k ℓ", "dimensionless", "need the unit vector",
-                  "built from a unit vector", "the full k, whatever the stretch", "close, but not exact")
+                  "built from a unit vector", "the full k, whatever the stretch", "close, but not exact",
+                  "not the whole identity")
 
 
 @pytest.mark.parametrize("planted", sorted(JACOBIAN_PLANTED))

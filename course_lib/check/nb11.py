@@ -81,6 +81,10 @@ def _jacobian_mistakes(d, k, rest, expected) -> dict:
          "∂F/∂x: did you leave it out, or clamp it at 0? Dropping it is a choice some solvers make "
          "for the solve (Choi & Ko 2002), not part of the derivative",
          "keep (1 - L/ℓ)(I - u uᵀ) with its sign: 1 - L/ℓ < 0 when ℓ < L"): -k * uu,
+        ("the sideways stiffness acts across the spring only: (1 - L/ℓ) multiplies (I - u uᵀ), the "
+         "projection across the spring, not the whole identity",
+         "(1 - L/ℓ) I also adds (1 - L/ℓ) u uᵀ along the spring; the sideways term is "
+         "(1 - L/ℓ)(I - u uᵀ), which is zero along u"): -k * (uu + (1 - rest / length) * np.eye(3)),
         ("check the sideways factor at ℓ = L: a spring at rest has no sideways stiffness",
          "the sideways factor is (1 - L/ℓ), not L/ℓ"): -k * (uu + rest / length * side),
         ("the sideways factor is the tension k(ℓ - L) divided by k ℓ",
@@ -128,7 +132,8 @@ def spring_jacobian(ck: Checker, func) -> None:
                     - springs.spring_force_pair(xi - h * e, xj, k, rest)) / (2 * h) for e in np.eye(3)],
                   axis=1)
     got = np.asarray(func(xi.copy(), xj.copy(), k, rest), dtype=float)
-    _judge(ck, got, fd, "matches central differences of the force", rtol=1e-6, atol=1e-6, unit=" N/m")
+    _judge(ck, got, fd, "matches central differences of the force", rtol=1e-6, atol=1e-6, unit=" N/m",
+           mistakes=_jacobian_mistakes(xi - xj, k, rest, fd))
     square = got.shape == (3, 3)
     nearly = square and np.allclose(got, got.T, rtol=1e-6, atol=1e-9)
     _judge(ck, got, got.T if square else fd, "symmetric", rtol=1e-12, atol=1e-12,
