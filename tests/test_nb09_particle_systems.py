@@ -819,3 +819,100 @@ def test_check_expected_population_escalates_and_is_pending_when_blank():
         raise NotImplementedError()
 
     assert judged(check.expected_population, pending)[0] == "pending"
+
+
+# --- the fifth read's hints: a uniform count of the wrong width, a loose tolerance, a <= L --
+
+
+def _floor_round(spread):
+    """Counts floor(mean + spread(variance) × U(-1, 1) + u): uniform, of width 2 spread(v)."""
+    return lambda m, v, rng: max(0, int(np.floor(m + spread(v) * rng.uniform(-1, 1) + rng.random())))
+
+
+#: Uniform counts of a wrong width: Reeves' variance read as the statistical one (the
+#: reviewer's √(3 variance)), and widths of the suite's own, wider and narrower-and-wider.
+WRONG_WIDTHS = {
+    "√(3 variance) × U": _floor_round(lambda v: np.sqrt(3 * v)),
+    "2 variance × U": _floor_round(lambda v: 2 * v),
+    "1.3 variance × U": _floor_round(lambda v: 1.3 * v),
+    "(variance + 2) × U": _floor_round(lambda v: v + 2),
+}
+
+
+@pytest.mark.parametrize("name", sorted(WRONG_WIDTHS))
+def test_check_emit_names_a_uniform_count_of_the_wrong_width(name):
+    answer = _emit_variant(WRONG_WIDTHS[name])
+    for attempt in (0, 1):
+        status, messages = judged(check.emit, answer, attempt=attempt)
+        assert status == "incorrect", (name, messages)
+        assert "half-width" in messages if attempt == 0 else "mean + variance × U(-1, 1)" in messages
+        assert "normal draw" not in messages and "is your random number bounded" not in messages, messages
+    # a normal draw still hears that Reeves' count is bounded
+    normal = _emit_variant(lambda m, v, rng: max(0, round(m + v * rng.normal())))
+    assert "half-width" not in judged(check.emit, normal)[1]
+
+
+def _expire_with(tolerance, relative=True):
+    def expire(data, n):
+        age, life = data["age"][:n], data["lifetime"][:n]
+        alive = age < (life * (1 - tolerance) if relative else life - tolerance)
+        m = int(alive.sum())
+        for a in data.values():
+            a[:m] = a[:n][alive]
+        return m
+    return expire
+
+
+EPS = np.finfo(float).eps
+
+
+@pytest.mark.parametrize("tolerance, relative, right", [
+    (4 * EPS, True, True), (16 * EPS, True, True), (50 * EPS, True, True),
+    (70 * EPS, True, False), (1e-12, True, False), (1e-9, True, False), (1e-6, True, False),
+    (2e-6, True, False), (1e-9, False, False), (1e-6, False, False)])
+def test_check_expire_catches_a_tolerance_larger_than_round_off(tolerance, relative, right):
+    """The prompt (cell 33) says a tolerance of more than about 60 ε deletes a particle too
+    early; the check plants a lifetime 64 ε ahead of its counted age to make that true. The
+    fifth read's 1e-6 (relative and absolute) passed before."""
+    status, messages = judged(check.expire, _expire_with(tolerance, relative))
+    assert status == ("correct" if right else "incorrect"), (tolerance, relative, messages)
+    if not right:
+        assert "larger than round-off" in messages, messages
+        assert "1e-9 or of a microsecond" in judged(check.expire, _expire_with(tolerance, relative),
+                                                    attempt=1)[1]
+    assert check._cases.ROUNDOFF_AHEAD == 64
+
+
+def test_prompt_quotes_the_tolerance_the_expire_check_enforces():
+    import nbformat
+    from notebook_helpers import ROOT
+    cells = [c.source for c in nbformat.read(ROOT / "solutions" / "09_particle_systems.ipynb",
+                                            as_version=4).cells]
+    ex2 = " ".join(next(c for c in cells if "### Exercise 2" in c).split())
+    assert "64 units of round-off" in ex2 and "more than about 60 ε" in ex2, ex2
+    assert "a few ε, not more" not in ex2
+
+
+#: Answers that count a particle at exactly its lifetime, written three ways.
+AT_LIFETIME = {
+    "ages <= lifetime": _population_with(strict=False, tolerance=False),
+    "not (ages > lifetime)": lambda mu, dt, L, V: _population_right(mu, dt, L, V) if V else np.convolve(
+        mu, (~(dt * np.arange(1, len(mu) + 1) > L)).astype(float))[: len(mu)],
+    "np.heaviside(lifetime - ages, 1)": lambda mu, dt, L, V: _population_right(mu, dt, L, V) if V else
+        np.convolve(mu, np.heaviside(L - dt * np.arange(1, len(mu) + 1), 1.0))[: len(mu)],
+}
+
+
+@pytest.mark.parametrize("name", sorted(AT_LIFETIME))
+def test_check_expected_population_names_a_le_l_not_summed_ages(name):
+    """On a hundred frames of 0.1 s, a <= L and summed ages give the same numbers; an answer
+    that showed a <= L on six whole frames hears that, never "the ages are summed"."""
+    for attempt in (0, 1):
+        status, messages = judged(check.expected_population, AT_LIFETIME[name], attempt=attempt)
+        assert status == "incorrect", messages
+        assert "the ages are summed" not in messages and "count the ages" not in messages, messages
+        ten = [line for line in messages.splitlines() if "10 s (100 frames)" in line]
+        assert ten and ("deleted before the count" in messages or "not a <= L" in messages), messages
+    # summed ages are still named as such
+    cumsum = POPULATION_PLANTED["ages summed with np.cumsum (broken by a hundred frames of 0.1 s)"][0]
+    assert "the ages are summed" in judged(check.expected_population, cumsum)[1]

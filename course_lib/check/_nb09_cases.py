@@ -64,6 +64,11 @@ def pairs_within_frames(counts) -> np.ndarray:
 # --- the expire step ----------------------------------------------------------------------
 
 
+#: Row 4 of :func:`expire_frame` has this many units of round-off (ε relative) of its
+#: lifetime left: a tolerance of a few ε keeps it, one of more than about 60 ε deletes it.
+ROUNDOFF_AHEAD = 64
+
+
 def expire_frame(rng: np.random.Generator, n: int, capacity: int, fps: int = 24) -> dict:
     """Arrays of ``capacity`` rows, ``n`` of them live, at ``fps`` frames per second: ages
     counted as ``steps × dt`` with ``dt = 1/fps`` (as a particle system counts them) and
@@ -71,7 +76,8 @@ def expire_frame(rng: np.random.Generator, n: int, capacity: int, fps: int = 24)
     ages equal their lifetime and some land one unit of round-off below it (at 24 frames
     per second, 5 × (1/24) < 5/24). Row 1 is exactly at its lifetime in frames, one unit
     of round-off short; row 2 has 2 μs of its lifetime left (it lives); row 3 is exactly at
-    its lifetime. Dead rows beyond ``n`` are aged 0."""
+    its lifetime; row 4 has 64 units of round-off left (it lives, and catches a tolerance
+    larger than round-off). Dead rows beyond ``n`` are aged 0."""
     dt = 1.0 / fps
     steps = rng.integers(1, 40, capacity)
     frames = rng.integers(5, 40, capacity)
@@ -86,6 +92,8 @@ def expire_frame(rng: np.random.Generator, n: int, capacity: int, fps: int = 24)
         data["lifetime"][2] = data["age"][2] + 2e-6                 # 2 μs to go: alive
     if n > 3:
         data["age"][3], data["lifetime"][3] = 6 * dt, 6 / fps       # reached (equal at 24 fps)
+    if n > 4:                                   # 64 units of round-off to go: alive
+        data["age"][4], data["lifetime"][4] = 7 * dt, 7 * dt * (1 + ROUNDOFF_AHEAD * np.finfo(float).eps)
     data["age"][n:] = 0.0                       # dead rows beyond n must be left alone
     return data
 
@@ -108,6 +116,11 @@ def _strict(data, n):
 def _isclose(data, n):
     age, life = data["age"][:n], data["lifetime"][:n]
     return _compact(data, (age < life) & ~np.isclose(age, life))
+
+
+def _loose(data, n):
+    """Any tolerance between about 1e-13 and 1e-6 (relative, or absolute in s) does this."""
+    return _compact(data, data["age"][:n] < data["lifetime"][:n] * (1 - 1e-9))
 
 
 def _alive(data, n):
@@ -157,6 +170,11 @@ EXPIRE_MISTAKES = (
                 "still 2 μs ahead of its age",
                 "round-off in a counted age is a unit or two in the last place, about 1e-16 "
                 "relative: a tolerance of a few ε is enough, and a larger one kills particles early")),
+    (_loose, (f"a particle with {ROUNDOFF_AHEAD} units of round-off (ε) of its lifetime still to go "
+              "was deleted: your tolerance is larger than round-off",
+              "round-off in a counted age is a unit or two in the last place: a relative tolerance "
+              "of a few ε (np.finfo(float).eps) is enough, and a tolerance of 1e-9 or of a "
+              "microsecond deletes particles that still have time to live")),
     (_whole_capacity, "only the first n rows are live; the rows beyond n are free slots"),
     (_inverted, "you kept the expired particles and deleted the living ones"),
     (_swap_with_last, ("keep the survivors in their original order",
@@ -194,9 +212,29 @@ def population_cases():
            0.1, 10.0, 0.0)
 
 
-def wrong_populations(mu, dt, life, var) -> dict:
+def shows_at_lifetime(got, expected, mu, dt, life, var) -> bool:
+    """Whether ``got`` is, on this fixed-lifetime case and on no other reading of it, the
+    population of an answer that still counts a particle whose age equals its lifetime
+    (``a <= L``)."""
+    if var:
+        return False
+    ages = np.arange(1, mu.size + 1) * dt
+    le = np.convolve(mu, (ages <= life).astype(float))[: mu.size]
+    lt = np.convolve(mu, (ages < life).astype(float))[: mu.size]    # no tolerance: another reading
+    try:
+        got = np.asarray(got, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return bool(got.shape == le.shape and not np.allclose(le, expected, rtol=1e-9, atol=1e-9)
+                and not np.allclose(le, lt, rtol=1e-9, atol=1e-9)
+                and np.allclose(got, le, rtol=1e-9, atol=1e-9))
+
+
+def wrong_populations(mu, dt, life, var, at_lifetime_seen: bool = False) -> dict:
     """What the usual mistakes return for one case, with the hint each deserves (a mistake
-    that gives the right numbers on this case is left out)."""
+    that gives the right numbers on this case is left out). On a hundred frames of 0.1 s,
+    ``a <= L`` and summed ages give the same numbers: ``at_lifetime_seen`` (an earlier case
+    showed ``a <= L`` alone) names ``a <= L`` first."""
     n = mu.size
     ages = np.arange(1, n + 1) * dt
     right = np.convolve(mu, particles.survival(ages, life, var))[:n]
@@ -206,6 +244,8 @@ def wrong_populations(mu, dt, life, var) -> dict:
 
     summed = np.cumsum(np.full(n, dt))                    # ages added up step by step
     half = (n - 1) // 2                                   # where mode="same" starts
+    at_lifetime = ("a particle whose age has reached its lifetime is deleted before the count",
+                   "with fixed lifetimes S(a) = 1 while a < L, and 0 from a = L on (not a <= L)")
     first_frames = ("the first frames come out wrong: which part of the full convolution is the "
                     "population after frame j?", "element j of the full convolution adds counts[k] "
                     "times S at the age (j - k + 1) dt, for k = 0 ... j: that is the population after "
@@ -220,8 +260,7 @@ def wrong_populations(mu, dt, life, var) -> dict:
          "5/24 s: treat an age within a few units of round-off of the lifetime as reached, as "
          "particles.reached does (age ≥ L (1 − 4ε))"):
             spread((ages < life).astype(float)) if var == 0 else None,
-        ("a particle whose age has reached its lifetime is deleted before the count",
-         "with fixed lifetimes S(a) = 1 while a < L, and 0 from a = L on (not a <= L)"):
+        at_lifetime:
             spread((ages <= life).astype(float)) if var == 0 else None,
         ("the lifetime is not a whole number of frames: do not round it",
          "a particle is counted at every age m·dt below its lifetime, however close the "
@@ -254,5 +293,10 @@ def wrong_populations(mu, dt, life, var) -> dict:
         (first_frames[0] + " (mode=\"same\" keeps the middle of it)", first_frames[1]):
             np.convolve(mu, particles.survival(ages, life, var))[half:half + n],
     }
+    if at_lifetime_seen:                       # summed ages after a <= L, the rest in order
+        order = list(mistakes)
+        summed_first = order.pop(0)
+        order.insert(order.index(at_lifetime) + 1, summed_first)
+        mistakes = {h: mistakes[h] for h in order}
     return {hint: wrong for hint, wrong in mistakes.items()
             if wrong is not None and not np.allclose(wrong, right, rtol=1e-9, atol=1e-9)}
