@@ -146,7 +146,9 @@ def test_hair_player_flips_between_9000_and_9500():
 
 
 @pytest.mark.roundoff  # a flock's run amplifies round-off
-def test_flocking_player_shows_the_alignment_step_overshooting():
+def test_flocking_player_shows_the_alignment_step_unstable():
+    """At 8 /s the step is unstable (f < -1), not merely overshooting (f < 0 already at 5 /s,
+    where the flock still aligns): notebook 10, Section 5."""
     player = kernel_free.flocking_player(alignments=(5.0, 8.0))
     assert "one aligned flock" in player.captions[0]
-    assert "overshoots" in player.captions[1]
+    assert "unstable (f < -1)" in player.captions[1] and "overshoot" not in player.captions[1]

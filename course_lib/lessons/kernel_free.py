@@ -82,15 +82,15 @@ def hair_player(dt: float = 1e-4, damping: float = 2e-3, k_bends=HAIR_KBENDS) ->
 
 
 #: Alignment weights (1/s) of the flocking player: the flock orders as the weight grows, until
-#: the explicit alignment step overshoots (at dt = 0.2 s, between 6 and 8 /s) and every
-#: boid's heading flips each step.
+#: the explicit alignment step becomes unstable, f < -1 (at dt = 0.2 s, between 6 and 8 /s;
+#: notebook 10, Section 5), and every boid's heading flips each step.
 FLOCK_ALIGNMENTS = (0.0, 0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0)
 
 
 def _flock_caption(run) -> str:
     pol = float(run.polarization[-1])
     if run.reversal < 0.5:
-        state = "the alignment step overshoots: headings flip every step"
+        state = "the alignment step is unstable (f < -1): headings flip every step"
     elif pol > 0.9:
         state = "one aligned flock"
     else:
