@@ -1,5 +1,6 @@
 """Case data of notebook 06's checks of ``nbody_force`` and ``bounce``.
 
+:func:`located_mistakes` holds what the usual slips make of a located bounce step;
 :func:`nbody_cases` holds the bodies the N-body check tries (2D and 3D, no softening, two
 bodies at one point) and :func:`nbody_mistakes` the forces its usual slips give;
 :func:`ground_states` holds the particles the contact-response check tries (above and below
@@ -33,6 +34,9 @@ def ground_states():
     v3[0, [0, 2]] = 0.0                          # straight down
     yield "8 particles in 3D, all hitting, e = 0.3, μ = 0.2", stack_state(x3, v3), 0.3, 0.2
     yield "same, e = 1 and μ = 0 (a perfect bounce)", stack_state(x3, v3), 1.0, 0.0
+    # many particles: whole-array code runs a dozen lines, a loop over them hundreds
+    xs, vs = rng.normal(size=(300, 3)), 2.0 * rng.normal(size=(300, 3))
+    yield "a spray of 300 particles in 3D, e = 0.5, μ = 0.3", stack_state(xs, vs), 0.5, 0.3
 
 
 def bounce_mistakes(y, e, mu, expected) -> dict:
@@ -98,6 +102,9 @@ def nbody_cases():
     x = rng.normal(size=(4, 2))
     x[3] = x[0]                                      # two bodies at the same point
     yield "4 bodies in 2D, two of them at one point, softening 0.5", x, np.ones(4), 2.0, 0.5
+    # many bodies: whole-array code runs a dozen lines, a loop over them more than 60
+    yield ("a cluster of 64 bodies in 3D, G = 1, softening 0.05", rng.normal(size=(64, 3)),
+           rng.uniform(0.1, 1.0, 64), 1.0, 0.05)
 
 
 def nbody_mistakes(x, m, G, eps, expected) -> dict:
@@ -127,4 +134,62 @@ def nbody_mistakes(x, m, G, eps, expected) -> dict:
             "you left out the softening ε": pairs(d2**1.5),
             "each body has its own mass: you gave every body the same one":
                 pairs((d2 + eps**2) ** 1.5, np.full_like(d2, m.mean() ** 2)),
+        }
+
+
+def located_mistakes(h, v, dt, g, e) -> dict:
+    """What the usual slips make of one step, keyed by hint (a nudge, then a stronger one)."""
+    free_h, free_v = h + v * dt - 0.5 * g * dt**2, v - g * dt
+    hit = free_h < 0.0
+    disc = np.sqrt(v * v + 2 * g * h)
+    s = np.where(hit, (v + disc) / g, dt)
+    rest = dt - s
+
+    def after(s, v_up, flight=True):
+        r = dt - s
+        if flight:
+            return np.where(hit, v_up * r - 0.5 * g * r**2, free_h), np.where(hit, v_up - g * r, free_v)
+        return np.where(hit, 0.0, free_h), np.where(hit, v_up, free_v)
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_lin = np.where(hit, np.minimum(h / np.abs(v), dt), dt)
+        s_chord = np.where(hit, dt * h / (h - free_h), dt)     # interpolated start to end
+        return {
+            escalate("your impact time interpolates linearly between the start of the step and "
+                     "the end of the free flight: the ball accelerates, so the path is a parabola "
+                     "and the chord crosses the ground at the wrong time", "the impact is the "
+                     "positive root s of h + v s - g s²/2 = 0, the step's own quadratic"):
+                after(s_chord, -e * (v - g * s_chord)),
+            escalate("you bounced at the end of the step, where the ball is already below the "
+                     "ground: locate the impact inside the step",
+                     "find the time s of the impact within the step, bounce there, and fly "
+                     "the rest of the step"): (np.where(hit, 0.0, free_h),
+                                               np.where(hit, -e * free_v, free_v)),
+            escalate("the ball accelerates during the step: the time of impact is a root of "
+                     "the step's own quadratic, not a straight line's", "solve h + v s - g s²/2 "
+                     "= 0 for s and take the positive root"): after(s_lin, -e * (v - g * s_lin)),
+            escalate("at the impact the ball has the velocity it has then, not the one the step "
+                     "started with", "gravity has been speeding it up for s seconds"):
+                after(s, -e * v),
+            escalate("the ball stopped at the impact: it must fly the rest of the step",
+                     "after the bounce it has dt - s left, under gravity"):
+                after(s, -e * (v - g * s), flight=False),
+            escalate("after the bounce gravity still acts for the rest of the step",
+                     "the remaining flight is a parabola too"):
+                (np.where(hit, -e * (v - g * s) * rest, free_h),
+                 np.where(hit, -e * (v - g * s), free_v)),
+            escalate("the rebound must point up: restitution reverses the velocity",
+                     "the velocity after the impact is -e times the velocity at the impact"):
+                after(s, e * (v - g * s)),
+            escalate("a ball on the ground moving up has just bounced: it hits again only if it "
+                     "comes down within the step", "decide from where the free flight ends, "
+                     "not from where the step starts"):
+                (np.where(h == 0.0, (-e * (v - g * 2 * v / g)) * (dt - 2 * v / g)
+                          - 0.5 * g * (dt - 2 * v / g) ** 2, after(s, -e * (v - g * s))[0]),
+                 np.where(h == 0.0, -e * (v - 2 * v) - g * (dt - 2 * v / g),
+                          after(s, -e * (v - g * s))[1])),
+            escalate("wrong root: of the two roots of h + v s - g s²/2 = 0 the impact is the "
+                     "one inside the step, the positive one", "the other root is negative, "
+                     "before the step began"): after(np.where(hit, (v - disc) / g, dt),
+                                                     -e * (v - g * np.where(hit, (v - disc) / g, dt))),
         }

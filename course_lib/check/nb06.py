@@ -3,7 +3,8 @@
 An answer may call no course_lib function (:mod:`course_lib.check.policy`). The terminal
 speed asks for a formula, so it also refuses ``scipy.integrate`` and a step-by-step
 simulation written by hand; the drag force and the located bounce ask for whole-array code,
-so they run under a budget of Python lines that a loop over the particles exceeds
+and so do the N-body force and the contact response: they run under a budget of Python
+lines that a loop over the particles or bodies exceeds
 (:func:`~course_lib.check._answers.call_analysis`, lines counted, not seconds). Hints name
 the slip the answer reproduces, or what the data that broke it show. Case data of the
 N-body and contact checks: :mod:`course_lib.check._nb06_cases`.
@@ -17,7 +18,7 @@ from .. import collisions, events, forces
 from ..lessons import nb06_forces as lesson
 from . import Checker, exercise
 from ._answers import call_analysis, close, one_number
-from ._nb06_cases import bounce_mistakes, ground_states, nbody_cases, nbody_mistakes
+from ._nb06_cases import bounce_mistakes, ground_states, located_mistakes, nbody_cases, nbody_mistakes
 from .tolerance import blown_up, call_whole_array, close_worst, escalate, precision_rtol
 
 
@@ -35,8 +36,6 @@ def _drag_cases():
 
 #: Lines of Python a whole-array answer needs at most (a loop over 300 particles runs 300).
 ARRAY_LINES = 60
-LOOPED = ("your function ran more lines of Python than whole-array code needs: it loops over "
-          "the particles")
 
 
 @exercise(allow=())
@@ -127,7 +126,19 @@ def terminal_speed(ck: Checker, speed) -> None:
             mistakes[escalate("adding the two terminal speeds overshoots: both drags act at "
                               "once, at one speed", "write one balance, b v + c v² = m g, and "
                               "solve it for v")] = m * g / b + np.sqrt(m * g / c)
-        close(ck, value, exact, what, rtol=precision_rtol(got, 1e-9), mistakes=mistakes)
+        # v = m g / (b + c v) contracts by c v / (b + c v) per step: near 1 it crawls, at
+        # b = 0 it swings between two values for ever; a short iteration stops off the root
+        slow = c * exact / (b + c * exact) > 0.6 and np.isfinite(value) and value > 0
+        close(ck, value, exact, what, rtol=precision_rtol(got, 1e-9), mistakes=mistakes,
+              hint=ITERATED if slow else None)
+
+
+#: The hint for a wrong answer where a fixed-point iteration converges slowly or not at all.
+ITERATED = escalate(
+    "if you iterate v = m g / (b + c v): with b small next to c v it converges slowly, and at "
+    "b = 0 not at all (it swings between two values); solve the balance once instead",
+    "b v + c v² = m g is a quadratic in v: its positive root, written 2 m g / (b + √(b² + "
+    "4 c m g)), needs no loop and no starting guess")
 
 
 def _falling_balls(seed: int, n: int, dt: float, g: float, e: float):
@@ -140,64 +151,6 @@ def _falling_balls(seed: int, n: int, dt: float, g: float, e: float):
     h1, _ = lesson.located_bounce_step(h, v, dt, g, e)
     keep = h1 >= 0.0
     return h[keep], v[keep]
-
-
-def _located_mistakes(h, v, dt, g, e) -> dict:
-    """What the usual slips make of one step, keyed by hint (a nudge, then a stronger one)."""
-    free_h, free_v = h + v * dt - 0.5 * g * dt**2, v - g * dt
-    hit = free_h < 0.0
-    disc = np.sqrt(v * v + 2 * g * h)
-    s = np.where(hit, (v + disc) / g, dt)
-    rest = dt - s
-
-    def after(s, v_up, flight=True):
-        r = dt - s
-        if flight:
-            return np.where(hit, v_up * r - 0.5 * g * r**2, free_h), np.where(hit, v_up - g * r, free_v)
-        return np.where(hit, 0.0, free_h), np.where(hit, v_up, free_v)
-
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s_lin = np.where(hit, np.minimum(h / np.abs(v), dt), dt)
-        s_chord = np.where(hit, dt * h / (h - free_h), dt)     # interpolated start to end
-        return {
-            escalate("your impact time interpolates linearly between the start of the step and "
-                     "the end of the free flight: the ball accelerates, so the path is a parabola "
-                     "and the chord crosses the ground at the wrong time", "the impact is the "
-                     "positive root s of h + v s - g s²/2 = 0, the step's own quadratic"):
-                after(s_chord, -e * (v - g * s_chord)),
-            escalate("you bounced at the end of the step, where the ball is already below the "
-                     "ground: locate the impact inside the step",
-                     "find the time s of the impact within the step, bounce there, and fly "
-                     "the rest of the step"): (np.where(hit, 0.0, free_h),
-                                               np.where(hit, -e * free_v, free_v)),
-            escalate("the ball accelerates during the step: the time of impact is a root of "
-                     "the step's own quadratic, not a straight line's", "solve h + v s - g s²/2 "
-                     "= 0 for s and take the positive root"): after(s_lin, -e * (v - g * s_lin)),
-            escalate("at the impact the ball has the velocity it has then, not the one the step "
-                     "started with", "gravity has been speeding it up for s seconds"):
-                after(s, -e * v),
-            escalate("the ball stopped at the impact: it must fly the rest of the step",
-                     "after the bounce it has dt - s left, under gravity"):
-                after(s, -e * (v - g * s), flight=False),
-            escalate("after the bounce gravity still acts for the rest of the step",
-                     "the remaining flight is a parabola too"):
-                (np.where(hit, -e * (v - g * s) * rest, free_h),
-                 np.where(hit, -e * (v - g * s), free_v)),
-            escalate("the rebound must point up: restitution reverses the velocity",
-                     "the velocity after the impact is -e times the velocity at the impact"):
-                after(s, e * (v - g * s)),
-            escalate("a ball on the ground moving up has just bounced: it hits again only if it "
-                     "comes down within the step", "decide from where the free flight ends, "
-                     "not from where the step starts"):
-                (np.where(h == 0.0, (-e * (v - g * 2 * v / g)) * (dt - 2 * v / g)
-                          - 0.5 * g * (dt - 2 * v / g) ** 2, after(s, -e * (v - g * s))[0]),
-                 np.where(h == 0.0, -e * (v - 2 * v) - g * (dt - 2 * v / g),
-                          after(s, -e * (v - g * s))[1])),
-            escalate("wrong root: of the two roots of h + v s - g s²/2 = 0 the impact is the "
-                     "one inside the step, the positive one", "the other root is negative, "
-                     "before the step began"): after(np.where(hit, (v - disc) / g, dt),
-                                                     -e * (v - g * np.where(hit, (v - disc) / g, dt))),
-        }
 
 
 @exercise(allow=())
@@ -222,7 +175,7 @@ def located_bounce(ck: Checker, func) -> None:
         if blown_up(ck, got, what, run=False):
             continue
         # one row per ball, (h, v): a wrong answer is summarised by its worst ball
-        mistakes = {hint: np.stack(wrong).T for hint, wrong in _located_mistakes(h, v, dt, g, e).items()}
+        mistakes = {hint: np.stack(wrong).T for hint, wrong in located_mistakes(h, v, dt, g, e).items()}
         close_worst(ck, got.T, expected.T, what, rtol=1e-9, atol=1e-12, mistakes=mistakes,
                     label="ball (h, v)")
     # The whole point: with the impact located, every bounce keeps e² of the height.
@@ -263,18 +216,26 @@ class _Bodies(np.ndarray):
         return super().__getitem__(key)
 
 
+LOOPED_BODIES = escalate("work on every pair at once with broadcasting, no loop over bodies",
+                         "r = x[:, None, :] - x[None, :, :] holds every pair at once, shape "
+                         "(N, N, d)")
+
+
 @exercise(allow=())
 def nbody_force(ck: Checker, func) -> None:
     """``func(x, mass, G, softening)``: softened gravity of every body on every other."""
     for what, x, m, G, eps in nbody_cases():
         expected = forces.nbody_gravity_force(x, m, G, eps)
+        # Two watches: the positions notice being indexed body by body, and the lines of
+        # Python run are counted (a copy made with np.asarray(x) no longer notices anything).
         _Bodies.looped = False
-        got = func(x.view(_Bodies), m.copy(), G, eps)
-        if _Bodies.looped:
+        ok, got = call_analysis(ck, what, ARRAY_LINES, LOOPED_BODIES, func, x.view(_Bodies),
+                                m.copy(), G, eps, why="it loops over the bodies one at a time "
+                                "instead of working on every pair at once")
+        if ok and _Bodies.looped:
             ck.expect(False, what, "your function loops over the bodies one at a time",
-                      hint=escalate("work on every pair at once with broadcasting, no loop over bodies",
-                            "r = x[:, None, :] - x[None, :, :] holds every pair at once, "
-                            "shape (N, N, d)"))
+                      hint=LOOPED_BODIES)
+        if not ok or _Bodies.looped:
             continue
         got = np.asarray(got)
         if blown_up(ck, got, what, run=False):
@@ -295,7 +256,12 @@ def bounce(ck: Checker, func) -> None:
         normal = np.eye(y.shape[-1])[1]
         expected = collisions.plane(normal=normal, restitution=e, friction=mu)(0.0, y)
         y_in = y.copy()
-        got = func(y_in, e, mu)
+        ok, got = call_whole_array(ck, what, ARRAY_LINES, escalate(
+            "respond to all the particles at once: no Python loop over them", "boolean masks "
+            "(below, moving in) pick the rows to change; np.where or mask assignment changes "
+            "them together"), func, y_in, e, mu)
+        if not ok:
+            continue
         if not np.array_equal(y_in, y):
             ck.expect(False, what, "your function changed its input y",
                       hint="copy the positions and velocities before changing them")
