@@ -818,3 +818,37 @@ def test_which_implicit_step_keeps_the_radius():
     assert "on *linear* fields such as the vortex" not in text
     assert "any linear field with constant coefficients, $V = AX$ with a fixed matrix $A$" in text
     assert "quadratic invariants such as $|X|^2$ on any field" not in text
+
+
+def test_exercise_4_names_forward_euler_among_the_three_methods_it_measures(capsys):
+    """Cell 28 (fifth review): the order-1 method of the check is forward Euler, the subject of
+    the notebook, so the text may say "never shows" only of the other two. Every method the
+    check's own report names must be named in the exercise text, the order-1 one must step
+    exactly as ``cl.forward_euler``, and the two called new must appear in no earlier cell."""
+    import re
+    from pathlib import Path
+
+    import nbformat
+
+    from course_lib.check import _nb02_cases as cases
+
+    nb = nbformat.read(Path(__file__).resolve().parents[1] / "solutions" / "02_forward_euler.ipynb",
+                       as_version=4)
+    at = next(i for i, c in enumerate(nb.cells) if "### Exercise 4" in c.source)
+    text = " ".join(nb.cells[at].source.split())
+    earlier = " ".join(c.source for c in nb.cells[:at])
+    assert "three methods the notebook never shows, of orders 1, 2 and 3" not in text
+    # the report's lines, from the model answer: "<method> on <problem>, n = ... (theory: order p)"
+    status, out = verdict(check.observed_order, _observed_order, capsys, "observed_order")
+    assert status == "correct"
+    reported = {re.match(r"\s*✓ (.+?) on ", line).group(1): int(re.search(r"order (\d)", line)[1])
+                for line in out.splitlines() if "theory: order" in line}
+    assert reported == {"forward Euler": 1, "Ralston's method": 2,
+                        "Kutta's third-order method": 3}
+    for name in reported:
+        assert name in text, name
+    assert "forward Euler and two the notebook never shows" in text
+    for name in ("Ralston", "Kutta"):
+        assert name not in earlier, name
+    f, y = (lambda t, y: np.array([y[1], -np.sin(y[0])])), np.array([2.0, 0.0])
+    np.testing.assert_array_equal(cases._euler(f, 0.3, y, 0.1), cl.forward_euler(f, 0.3, y, 0.1))
