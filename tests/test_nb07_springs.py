@@ -315,18 +315,19 @@ def test_damped_stable_sets_table_and_simulations():
     c_crit = S.critical_damping(K, M)
     w = np.sqrt(K / M)
     unit = 2 / w
-    grid = np.linspace(0.001, 2.6, 521) * unit
+    grid = np.linspace(0.001, 4.1, 821) * unit
     printed = {"symplectic_euler": {0.0: "< 1.00000", 0.25: "< 0.78078", 0.5: "< 0.61803",
                                     1.0: "< 0.41421", 2.0: "< 0.23607"},
-               "velocity_verlet": {0.0: "< 1.00000", 0.25: "< 0.91598",
+               "velocity_verlet": {0.0: "< 1.00000", 0.25: "< 0.91598 and 3.74888 to 4.00000",
                                    0.5: "< 1.00000 and 1.41421 to 2.00000", 1.0: "< 1.00000",
                                    2.0: "< 0.50000"}}
     for method, rows in printed.items():
         for zeta, text in rows.items():
             found = nb07.scan_windows(method, K, M, zeta * c_crit, grid)
             formula = nb07.stable_windows(method, K, M, zeta * c_crit)
-            assert len(found) == len([f for f in formula if f[0] < grid[-1]])
-            assert np.allclose(found, np.minimum(formula, grid[-1])[:len(found)], rtol=1e-9)
+            assert np.max(formula) < grid[-1]      # the scan reaches every edge
+            assert len(found) == len(formula)
+            assert np.allclose(found, formula, rtol=1e-9)
             parts = []
             for lo, hi in found:           # bisected to 1e-14: 1e-10 of spread is generous
                 if lo:
@@ -342,6 +343,14 @@ def test_damped_stable_sets_table_and_simulations():
     # past ζ* the limit is 4/γ, twice symplectic Euler's 2/γ for strong damping
     assert round(np.sqrt(2) - 1, 2) == 0.41 and round(np.sqrt(5) - 2, 2) == 0.24
     assert round(nb07.velocity_verlet_windows(K, M, 0.25 * c_crit)[0][1] / unit, 2) == 0.92
+    # ζ = 0.25: P(w) = w³/4 - 7w²/4 - 2w + 8 has roots r1 < r2 in (0, 2/ζ = 8); Verlet is
+    # stable for w < r1 and r2 < w < 8, "< 0.91598 and 3.74888 to 4.00000" in units of 2/ω
+    r1, r2 = sorted(r.real for r in np.roots([0.25, 4 * 0.25**2 - 2, -2.0, 8.0]) if r.real > 0)
+    (a0, a1), (b0, b1) = (np.array(w) / unit for w in nb07.velocity_verlet_windows(K, M, 0.25 * c_crit))
+    assert (a0, b1) == (0.0, pytest.approx(4.0, rel=1e-12))
+    assert (a1, b0) == (pytest.approx(r1 / 2, rel=1e-9), pytest.approx(r2 / 2, rel=1e-9))
+    assert f"{r1 / 2:.5f} {r2 / 2:.5f}" == "0.91598 3.74888"
+    assert (round(r2 / 2, 2), round(b1, 2)) == (3.75, 4.0)      # prose: "from 3.75 to 4"
     for zeta in (0.6, 1.0, 2.0, 10.0):
         (lo, hi), = nb07.stable_windows("velocity_verlet", K, M, zeta * c_crit)
         assert hi == pytest.approx(4 * M / (zeta * c_crit), rel=1e-12)

@@ -146,7 +146,28 @@ def _limit_mistakes(k: float, m: float, c: float) -> dict:
             2.0 / gamma if gamma else np.inf,
         escalate("(2/ω)(1 - ζ) is the small-damping approximation, wrong at ζ = 1 and "
                  "beyond", "solve the quadratic exactly"): 2.0 / omega * (1.0 - zeta),
+        # the mass misplaced: right wherever m = 1 kg, wrong elsewhere
+        escalate("the critical damping is 2√(k m), not 2√k: with ζ = c/(2√k) your damping "
+                 "rate is c/√m where it should be γ = c/m", "γ = c/m, in 1/s; ζ = γ/(2ω)"):
+            _se_limit(omega, c / np.sqrt(m)),
+        escalate("the spring's frequency is ω² = k/m: you left the mass out of it",
+                 "divide k by m"): _se_limit(np.sqrt(k), gamma),
+        escalate("the mass is missing from both terms: γ = c/m and ω² = k/m",
+                 "divide c and k by m"): _se_limit(np.sqrt(k), c),
+        # the quadratic formula with a factor 2 lost (or doubled) in 2a or b
+        escalate("every value is off by exactly a factor of 2: redo the quadratic formula",
+                 "ω² dt² + 2γ dt - 4 = 0 has the root dt = (-2γ + √(4γ² + 16ω²)) / (2ω²): "
+                 "the 2 of 2a and the 2 of b = 2γ are both needed"): 2.0 * _se_limit(omega, gamma),
+        escalate("every value is off by exactly a factor of 2 (half the limit): redo the "
+                 "quadratic formula", "ω² dt² + 2γ dt - 4 = 0 has the root dt = (-2γ + "
+                 "√(4γ² + 16ω²)) / (2ω²): divide by 2a = 2ω², not 4ω²"):
+            0.5 * _se_limit(omega, gamma),
     }
+
+
+def _se_limit(omega: float, gamma: float) -> float:
+    """Symplectic Euler's step limit (s) for the rates ``omega`` and ``gamma`` (1/s)."""
+    return 4.0 / (gamma + np.sqrt(gamma**2 + 4.0 * omega**2))
 
 
 @exercise(allow=(), forbid=("scipy.integrate",))
