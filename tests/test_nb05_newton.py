@@ -452,7 +452,7 @@ PLANTS = [
           "incorrect", "uses the reference"),
     Plant("symplectic_euler_step", "shortcut", "force at t = 0 (time frozen)",
           SE_RIGHT.replace("f(t, y)", "f(0.0, y)"), "incorrect",
-          "your function evaluated f at t - 0.7"),
+          "your function evaluated f at time 0; the step starts at t = 0.7 s"),
     Plant("symplectic_euler_step", "misconception", "forward Euler (old velocity)",
           "def symplectic_euler_step(f, t, y, dt):\n"
           "    return np.stack((y[0] + dt * y[1], y[1] + dt * f(t, y)[1]))",

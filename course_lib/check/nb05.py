@@ -52,9 +52,8 @@ def _evidence(got, expected, y, calls, t, dt, times_wanted, tells) -> str | None
                 f"this method evaluates it at {wanted} only (an adaptive solver, or several "
                 f"small steps, is not this method)")
     if odd and t != 0.0:
-        shown = ", ".join("t" if s == 0 else f"t {'+' if s > 0 else '-'} {abs(s):.3g}"
-                          for s in (round(c - t, 12) for c in sorted(set(calls))))
-        return (f"your function evaluated f at {shown} (the step starts at t = {t:g} s): "
+        shown = " and ".join(_when(c, t, dt) for c in sorted(set(calls)))
+        return (f"your function evaluated f at {shown}; the step starts at t = {t:g} s: "
                 f"a force that depends on time needs the step's own times")
     a = as_array(got)
     if a is None or a.shape != expected.shape:
@@ -63,6 +62,15 @@ def _evidence(got, expected, y, calls, t, dt, times_wanted, tells) -> str | None
         if test(a, expected, y, dt):
             return hint
     return None
+
+
+def _when(time: float, t: float, dt: float) -> str:
+    """A time ``f`` was called at, in words: "t + dt/2" near the step, else "time 0.1 s"."""
+    for k, name in ((0.0, "t"), (0.5, "t + dt/2"), (1.0, "t + dt"), (-1.0, "t - dt"),
+                    (2.0, "t + 2 dt"), (-0.5, "t - dt/2")):
+        if abs(time - (t + k * dt)) <= 1e-12 * max(1.0, abs(t)):
+            return name
+    return "time 0" if time == 0 else f"time {time:.3g} s"
 
 
 def _same(a, b) -> bool:
