@@ -1092,3 +1092,108 @@ def test_follower_legend_is_below_both_panels(follower_view_module):
     assert plot.exact.get_zorder() > max(line.get_zorder() for line in plot.lines.values())
     assert plot.dynamic.index(plot.exact) > max(plot.dynamic.index(line)
                                                 for line in plot.lines.values())
+
+
+# --- fifth blind read (2026-11-28): cells 8, 18 and 25 ---------------------------------------
+
+def _nb04_markdown() -> str:
+    import pathlib
+
+    import nbformat
+
+    nb = nbformat.read(pathlib.Path(__file__).resolve().parents[1] / "solutions"
+                       / "04_beyond_euler.ipynb", as_version=4)
+    return " ".join(" ".join(c.source.split()) for c in nb.cells if c.cell_type == "markdown")
+
+
+@pytest.mark.parametrize("n", [50, 64, 100])
+def test_trapezoid_radius_on_the_pulsing_vortex_wobbles_above_1_and_returns(n):
+    """Cell 8: on the pulsing vortex the trapezoid does not lose |X|. Its step
+    (I - a_{k+1} J) X_{k+1} = (I + a_k J) X_k with a_k = dt ω(t_k)/2 keeps |X_k| √(1 + a_k²),
+    so with ω(0) = 1.5 its largest value the radius stays in [1, 1 + dt²/4] (√((1 + (3dt/4)²) /
+    (1 + (dt/4)²)) ≤ 1 + dt²/4) over two periods, rises above 1 + dt²/8 in each, and is 1 again
+    at t = 2π and 4π. The tolerance is Newton's: each step is solved to an update below 1e-13
+    relative, so n steps leave at most ~n · 1e-13; we allow ten times that."""
+    dt = 4 * np.pi / n
+    run = cl.integrate(check.pulsing_vortex, [1.0, 0.0], (0.0, 4 * np.pi), dt, "trapezoidal")
+    r, tol = np.linalg.norm(run.y, axis=1), 10 * n * 1e-13
+    a = dt * (1.0 + 0.5 * np.cos(run.t)) / 2
+    np.testing.assert_allclose(r * np.sqrt(1 + a**2), np.sqrt(1 + a[0] ** 2), rtol=tol, atol=0)
+    assert r.min() >= 1 - tol and r.max() <= 1 + dt**2 / 4 + tol
+    for half in (r[: n // 2 + 1], r[n // 2:]):
+        assert half.max() > 1 + dt**2 / 8
+    assert run.t[n // 2] == pytest.approx(2 * np.pi) and run.t[-1] == pytest.approx(4 * np.pi)
+    assert abs(r[n // 2] - 1) <= tol and abs(r[-1] - 1) <= tol
+    text = _nb04_markdown()
+    assert "the trapezoid loses $|X|$" not in text
+    assert ("no longer keeps $|X|$ step by step: on the pulsing vortex its radius wobbles above "
+            "1 and comes back to 1 each period") in text
+    assert "it keeps $|X_n|\\sqrt{1 + a_n^2}$ instead" in text
+
+
+def _cpu(method: str, n: int, repeats: int = 5) -> float:
+    """Best CPU time (s) of ``repeats`` runs of the stiff follower over one turn with n steps."""
+    import time
+
+    from course_lib.lessons import nb04_beyond_euler as lesson
+
+    f, jac, _ = lesson.follower()
+    kw = {"jac": jac} if method in ("backward_euler", "trapezoidal") else {}
+    best = math.inf
+    for _ in range(repeats):
+        start = time.process_time()
+        cl.integrate(f, np.zeros(2), (0.0, 2 * np.pi), 2 * np.pi / n, method, blowup_bound=1e3,
+                     **kw)
+        best = min(best, time.process_time() - start)
+    return best
+
+
+def test_on_the_clock_the_trapezoid_is_no_faster_than_forward_euler():
+    """Cell 18, in orderings and ratios, not milliseconds: an implicit step costs "as long as
+    tens of forward Euler steps" (measured 31 to 52 here, CPU time, best of 5; band 10 to 200),
+    so the trapezoid's 121 steps take "about as long as forward Euler's 3147, or longer"
+    (measured 1.2 to 2.0 times; asserted at least 0.5, which needs a per-step ratio above 13)
+    and backward Euler's 32 "stay clearly ahead" (measured 0.37 to 0.45 of forward Euler's
+    time and 0.2 to 0.4 of the trapezoid's; asserted below 0.8 of each)."""
+    fe, be, tr = _cpu("forward_euler", 3147), _cpu("backward_euler", 32), _cpu("trapezoidal", 121)
+    assert 10 <= (tr / 121) / (fe / 3147) <= 200, (tr, fe)
+    assert tr >= 0.5 * fe, (tr, fe)
+    assert be < 0.8 * fe and be < 0.8 * tr, (be, fe, tr)
+    text = _nb04_markdown()
+    assert "On the wall clock the gap is smaller than in evaluations" not in text
+    assert ("the trapezoid's 121 steps take about as long as forward Euler's 3147 cheap ones, "
+            "or longer, and only backward Euler, with 32 steps, stays clearly ahead") in text
+    assert " ms" not in text.split("On the wall clock")[1].split("The left panel")[0]
+
+
+@pytest.mark.parametrize("how", ["solve", "inv", "lu"])
+def test_exercise_2_text_and_check_agree_on_solve_inverse_and_factors(how, capsys):
+    """Cell 25: the text offers a solve per step, factors reused, or an inverse computed once;
+    the check accepts each, and still refuses a product with I - dt A (not a solve)."""
+    import scipy.linalg
+
+    def answer(A, x0, dt, n):
+        A, x = np.asarray(A, dtype=float), np.asarray(x0, dtype=float)
+        M = np.eye(len(x)) - dt * A
+        if how == "inv":
+            Mi = np.linalg.inv(M)
+        elif how == "lu":
+            lu = scipy.linalg.lu_factor(M)
+
+        def step(x):
+            if how == "solve":
+                return np.linalg.solve(M, x)
+            return Mi @ x if how == "inv" else scipy.linalg.lu_solve(lu, x)
+
+        out = [x]
+        for _ in range(n):
+            out.append(step(out[-1]))
+        return np.array(out)
+
+    status, out = verdict(check.backward_euler_linear, answer, capsys, "backward_euler_linear")
+    assert status == "correct", out
+    text = _nb04_markdown()
+    assert "(`np.linalg.solve`; the matrix is the same at every step)" not in text
+    for name in ("`np.linalg.solve`", "`scipy.linalg.lu_factor`", "`lu_solve`", "`np.linalg.inv`",
+                 "the check accepts each of the three"):
+        assert name in text, name

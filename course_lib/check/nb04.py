@@ -216,6 +216,9 @@ def _judge_midpoint_rule(ck, what, f, t, y, dt, keeps_norm, got, calls, named) -
         if hint is None and res <= 1e-10 * scale:
             hint = ("your Y solves the equation but is not the step's answer: another root. "
                     "Start the iteration close to y (a forward Euler guess)")
+        if hint is None:
+            hint = _one_newton_step(res, float(np.max(np.abs(dt * f(t + 0.5 * dt, y)))),
+                                    calls, y.size)
         if hint is None and not iterated:
             hint = (f"your step evaluated f only {calls} time(s): no formula of known values "
                     "gives Y, which appears on both sides of the equation. Solve for it, e.g. "
@@ -236,3 +239,14 @@ def _judge_midpoint_rule(ck, what, f, t, y, dt, keeps_norm, got, calls, named) -
         ck.passed[-1] += " (and |Y| = |y|)"
 
 
+def _one_newton_step(res: float, res_at_y: float, calls: int, size: int) -> str | None:
+    """The hint for an answer that stopped after one Newton update, or None.
+
+    One update with a finite-difference Jacobian evaluates f ``size + 1`` to ``size + 3``
+    times (the residual, one column per component, perhaps a guess and a final check); it
+    cuts the residual ``res_at_y`` of ``Y = y`` by far more than 10, but not to round-off."""
+    if not (size + 1 <= calls <= size + 3 and res < 0.1 * res_at_y):
+        return None
+    return (f"you took one Newton step; iterate until the residual is at round-off (it fell "
+            f"from {res_at_y:.2g} at Y = y to only {res:.2g}, and your step evaluated f only "
+            f"{calls} times: enough for one residual and one finite-difference Jacobian)")
