@@ -216,3 +216,115 @@ ESCALATING = [
 @pytest.mark.parametrize("module, plant", ESCALATING, ids=lambda p: getattr(p, "label", ""))
 def test_common_hints_escalate(module, plant):
     judge(module, plant)
+
+
+# --- fifth review: the same mistake repeated gets a fuller second hint (01 Ex 2 and 6, 02 Ex 1
+# and 3); each on the review's answer and on one of our own of the same class ---------------
+
+_COHESION = ("def cohesion(X, radius):\n    X = np.asarray(X, float)\n"
+             "    D = X[None, :, :] - X[:, None, :]\n"
+             "    near = (D ** 2).sum(axis=-1) < radius ** 2\n"
+             "    np.fill_diagonal(near, False)\n"
+             "    return np.einsum('ij,ijk->ik', near, D) / {count}\n")
+ESCALATING_5 = [
+    *_pair(nb01, "whirlpool", "outward pull",
+           "def whirlpool(t, X, k=0.5):\n    X = np.asarray(X, float)\n"
+           "    return np.stack((-X[..., 1] + k * X[..., 0], X[..., 0] + k * X[..., 1]), axis=-1)\n",
+           "the pull points outwards", "V = (-0.5, 1)"),
+    *_pair(nb01, "whirlpool", "outward pull, written as vortex plus radial",
+           "def whirlpool(t, X, k=0.5):\n"
+           "    return cl.fields.vortex(t, X) + k * cl.fields.radial(t, X)\n",
+           "the pull points outwards", "check one point by hand"),
+    *_pair(nb01, "cohesion", "divides by N", _COHESION.format(count="len(X)"),
+           "divide by their number, not by N", "near.sum(axis=1, keepdims=True)"),
+    *_pair(nb01, "cohesion", "divides by X.shape[0] with a loop-free sum",
+           _COHESION.format(count="X.shape[0]"), "divide by their number, not by N",
+           "a boid with 2 neighbours averages 2 offsets"),
+    *_pair(nb02, "forward_euler_step", "no dt", "def forward_euler_step(f, t, y, dt):\n"
+           "    return y + f(t, y)\n", "multiply the slope by dt", "= (-0.5, 1)"),
+    *_pair(nb02, "forward_euler_step", "no dt, slope in a variable",
+           "def forward_euler_step(f, t, y, dt):\n    slope = np.asarray(f(t, y))\n"
+           "    y_next = np.asarray(y, float) + slope\n    return y_next\n",
+           "multiply the slope by dt", "f(t, y) is a velocity (m/s)"),
+    *_pair(nb02, "drift_dt", "ln(1 + tol)/π", "def drift_dt(tol):\n"
+           "    return np.log1p(tol) / np.pi\n", "ln(1 + tol)/π comes from the estimate",
+           "a little LARGER than ln(1 + tol)/π"),
+    *_pair(nb02, "drift_dt", "ln(1 + tol)/π, written as log(1 + tol)",
+           "def drift_dt(tol):\n    return float(np.log(1.0 + tol) / np.pi)\n",
+           "ln(1 + tol)/π comes from the estimate", "scipy.optimize.brentq"),
+]
+
+
+@pytest.mark.parametrize("module, plant", ESCALATING_5, ids=lambda p: getattr(p, "label", ""))
+def test_repeated_mistakes_of_01_and_02_get_a_fuller_hint(module, plant):
+    judge(module, plant)
+
+
+def test_the_fuller_hints_numbers_are_right():
+    """The numbers the fuller hints quote: the whirlpool at (1, 0) with k = 0.5 is (-0.5, 1)
+    (the outward one (0.5, 1)); forward Euler's worked step from (0, 1) with dt = 0.5 is
+    (-0.5, 1) (without dt (-1, 1)); the largest 1 % step exceeds ln(1.01)/π by about dt²/2
+    relative, more than the check's 1e-6."""
+    import math
+
+    import numpy as np
+
+    import course_lib as cl
+
+    X = np.array([1.0, 0.0])
+    np.testing.assert_allclose(nb01.whirlpool_reference(0.0, X, 0.5), [-0.5, 1.0])
+    np.testing.assert_allclose(nb01.whirlpool_reference(0.0, X, -0.5), [0.5, 1.0])
+    y = np.array([0.0, 1.0])
+    np.testing.assert_allclose(cl.forward_euler(cl.fields.vortex, 0.0, y, 0.5), [-0.5, 1.0])
+    np.testing.assert_allclose(y + cl.fields.vortex(0.0, y), [-1.0, 1.0])
+    for tol in (0.01, 0.1):
+        best, guess = nb02.largest_drift_dt(tol), math.log1p(tol) / math.pi
+        assert best > guess and (best / guess - 1) > nb02.DRIFT_RTOL
+        assert best / guess - 1 == pytest.approx(best**2 / 2, rel=0.1)
+
+
+# --- 04, exercise 3: one Newton update is named as such (fifth review) ------------------------
+
+def _newton(guess: str, updates: int, final_check: bool = False) -> str:
+    """An implicit midpoint step by Newton's method with a forward-difference Jacobian on the
+    flattened state, stopped after ``updates`` updates."""
+    check = "    residual(Y)\n" if final_check else ""
+    return ("def implicit_midpoint_step(f, t, y, dt):\n    y = np.asarray(y, float)\n"
+            "    def residual(Y):\n        return (Y - y - dt * f(t + dt / 2, (y + Y) / 2)).ravel()\n"
+            f"    Y = {guess}\n"
+            f"    for _ in range({updates}):\n        r = residual(Y)\n"
+            "        J = np.empty((y.size, y.size))\n"
+            "        for j in range(y.size):\n            e = np.zeros(y.size)\n"
+            "            e[j] = 1e-7\n"
+            "            J[:, j] = (residual(Y + e.reshape(y.shape)) - r) / 1e-7\n"
+            "        Y = Y - np.linalg.solve(J, r).reshape(y.shape)\n"
+            f"{check}    return Y\n")
+
+
+_ONE_NEWTON = "you took one Newton step"
+NEWTON_PLANTS = [
+    Plant("implicit_midpoint_step", "misconception", "one Newton update from y (the review's)",
+          _newton("y.copy()", 1), "incorrect", _ONE_NEWTON,
+          avoid="no formula of known values"),
+    Plant("implicit_midpoint_step", "misconception", "one Newton update from a forward Euler guess",
+          _newton("y + dt * f(t, y)", 1), "incorrect",
+          "you took one Newton step; iterate until the residual is at round-off",
+          avoid="no formula of known values"),
+    Plant("implicit_midpoint_step", "misconception", "one update, then a residual it ignores",
+          _newton("y.copy()", 1, final_check=True), "incorrect", _ONE_NEWTON,
+          avoid="no formula of known values"),
+    Plant("implicit_midpoint_step", "other", "six Newton updates: right",
+          _newton("y.copy()", 6), "correct", ""),
+    Plant("implicit_midpoint_step", "misconception", "forward Euler: still named as such",
+          "def implicit_midpoint_step(f, t, y, dt):\n    return y + dt * f(t, y)\n", "incorrect",
+          "that is forward Euler", avoid=_ONE_NEWTON),
+    Plant("implicit_midpoint_step", "misconception", "two fixed-point updates: not one Newton step",
+          "def implicit_midpoint_step(f, t, y, dt):\n    Y = np.asarray(y, float)\n"
+          "    for _ in range(2):\n        Y = y + dt * f(t + dt / 2, (y + Y) / 2)\n    return Y\n",
+          "incorrect", "", avoid=_ONE_NEWTON),
+]
+
+
+@pytest.mark.parametrize("plant", NEWTON_PLANTS, ids=lambda p: p.label)
+def test_nb04_one_newton_update_is_named(plant):
+    judge(nb04, plant)

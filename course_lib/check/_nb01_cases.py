@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._answers import as_array
+from .tolerance import escalate
 
 _RNG_SEED = 2026
 
@@ -144,7 +145,7 @@ def cohesion_mistakes(X, radius: float, expected) -> dict:
                 -expected,
             ("a boid exactly `radius` away is not a neighbour: the rule is |X_j - X_i| < "
              "radius, strictly"): cohesion_within(X, D, dist2 <= radius**2),
-            "average over the neighbours only: divide by their number, not by N":
+            DIVIDE_BY_N_HINT:
                 np.einsum("ij,ijk->ik", others, D) / len(X),
             ("the centre is the mean of the NEIGHBOURS within the radius, not of the whole "
              "flock"): X.mean(axis=0) - X,
@@ -170,3 +171,16 @@ def newborns_changed(got, expected, born) -> bool:
         return False
     m = len(a) - n
     return bool(np.allclose(a[:m], expected[:m]) and not np.allclose(a[m:], born))
+
+
+#: Exercise 2: the pull -k (x, y) added with the wrong sign; the second time, one point by hand.
+OUTWARD_HINT = escalate(
+    "the pull points outwards: subtract k (x, y) so that particles move towards the origin",
+    "check one point by hand: at (1, 0) with k = 0.5 the vortex gives (0, 1) and the pull must "
+    "point to -x, so V = (-0.5, 1); yours gives (0.5, 1)")
+
+#: Exercise 6: the neighbours' offsets summed and divided by the flock size N.
+DIVIDE_BY_N_HINT = escalate(
+    "average over the neighbours only: divide by their number, not by N",
+    "a boid with 2 neighbours averages 2 offsets: divide each boid's sum by its own count, "
+    "near.sum(axis=1, keepdims=True) of your neighbour mask, not by len(X)")

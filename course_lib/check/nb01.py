@@ -23,6 +23,7 @@ from ._nb01_cases import (
     COHESION_LINE_BUDGET,
     GRID_HINT,
     NEWBORN_HINT,
+    OUTWARD_HINT,
     cohesion_cases,
     cohesion_mistakes,
     cohesion_reference,
@@ -159,8 +160,7 @@ def whirlpool(ck: Checker, whirlpool) -> None:
 
         def mistakes(X, k=k):
             out = {
-                "the pull points outwards: subtract k (x, y) so that particles move "
-                "towards the origin": whirlpool_reference(0.0, X, -k),
+                OUTWARD_HINT: whirlpool_reference(0.0, X, -k),
                 "the vortex part (-y, x) is missing: a whirlpool turns while it pulls in":
                     -k * np.asarray(X, dtype=float),
                 "the inward pull -k (x, y) is missing": fields.vortex(0.0, X),

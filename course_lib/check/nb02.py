@@ -39,6 +39,7 @@ from ._nb02_cases import (
     radius_formula,
 )
 from .policy import name_chains
+from .tolerance import escalate
 
 _SLOPE_AT_END = (
     "the slope must be taken at the START of the step, f(t, y); you used the end of "
@@ -48,7 +49,11 @@ _FROZEN_T = (
     "pass the step's time t to f: this field changes with time, and you evaluated it at "
     "t = 0"
 )
-_NO_DT = "multiply the slope by dt: the position changes by dt * f(t, y), not by f(t, y)"
+_NO_DT = escalate(
+    "multiply the slope by dt: the position changes by dt * f(t, y), not by f(t, y)",
+    "f(t, y) is a velocity (m/s) and dt * f(t, y) the displacement (m) over the step: on the "
+    "worked example, the vortex from (0, 1) with dt = 0.5, the step gives (0, 1) + 0.5 (-1, 0) "
+    "= (-0.5, 1), where y + f(t, y) gives (-1, 1)")
 _SIGN = "wrong sign: forward Euler moves ALONG the velocity, y + dt * f(t, y)"
 _INCREMENT = "return the new state y + dt * f(t, y), not only the change dt * f(t, y)"
 
@@ -206,8 +211,13 @@ def _drift_hint(dt: float, tol: float, best: float, drift: float, brentq_named: 
                 "the drift per revolution is (1 + dt²)^(π/dt) ≈ e^(π dt), a bit MORE than "
                 "1 + π dt: solve the exact condition instead of linearising")
     if near(math.log1p(tol) / math.pi):
-        return ("ln(1 + tol)/π comes from the estimate e^(π dt), which slightly overstates "
-                "the growth: solve the exact condition with a root finder")
+        return escalate(
+            "ln(1 + tol)/π comes from the estimate e^(π dt), which slightly overstates "
+            "the growth: solve the exact condition with a root finder",
+            "the exact growth is (1 + dt²)^(π/dt) = e^((π/dt) ln(1 + dt²)), and ln(1 + dt²) "
+            "< dt², so the largest step is a little LARGER than ln(1 + tol)/π (by about "
+            "dt²/2 relative, more than the check's 1e-6): solve (π/dt) ln(1 + dt²) = "
+            "ln(1 + tol) for dt with scipy.optimize.brentq")
     if near(root(tol, steps_per_factor=1.0), 1e-4):
         return ("you compounded the factor 1 + dt² per step; it is |X|² that grows by it",
                 "the radius grows by √(1 + dt²) per step, so over n = 2π/dt steps by "

@@ -50,7 +50,8 @@ def flock_acceleration(X, V, box: float = 10.0, radius: float = 1.5, r_sep: floa
     ----------
     X, V : ndarray, shape (..., N, 2)
         Positions (m) in ``[0, box)²`` and velocities (m/s); leading axes hold independent
-        flocks, each computed with the same arithmetic as alone (bit for bit).
+        flocks, each computed with the same formulas as alone (equal to round-off: a
+        stacked product may add in another order on another processor).
     box : float
         Side of the periodic square (m).
     radius : float
@@ -166,7 +167,8 @@ def flock_ensemble(seeds, weights=WEIGHTS, n: int = 80, steps: int = 600, dt: fl
     spread of ``late`` over seeds says how much one run can vary. ``nudge`` (m) moves the
     first boid of every start (see :func:`run_flock`): the ensemble another machine's
     rounding might give. All flocks fly at once, as one stack of arrays (each one's numbers
-    are those :func:`run_flock` gives it, bit for bit: a test checks it).
+    are those :func:`run_flock` gives it, to round-off over the first seconds, before the
+    chaos amplifies a different last digit: a test checks it).
     """
     box, speed = 10.0, (0.6, 1.5)
     _check(n, steps, dt, box)
