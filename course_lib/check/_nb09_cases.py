@@ -39,6 +39,24 @@ def counts_and_points(func, mean, variance, radius, calls: int, seed: int):
     return np.array(counts), np.concatenate(points)
 
 
+#: Counts drawn as a uniform number, rounded, have a kurtosis μ₄/σ⁴ near 1.8; a normal draw
+#: has 3 (2.6 once clipped at 0 for the small emitter). Below this, the draw was uniform.
+FLAT = 2.4
+
+#: The hint for counts drawn uniformly over the wrong width (√(3 variance) × U, 2 variance × U).
+WIDTH_HINT = ("your counts are spread evenly, but over the wrong width: Reeves' variance is the "
+               "half-width of the spread, not its statistical variance",
+               "mean + variance × U(-1, 1) with U = rng.uniform(-1, 1): the count then spreads "
+               "evenly from mean - variance to mean + variance")
+
+
+def flat(counts) -> bool:
+    """Whether ``counts`` look drawn from a uniform number (kurtosis below :data:`FLAT`)."""
+    d = np.asarray(counts, dtype=float) - np.mean(counts)
+    var = np.mean(d**2)
+    return bool(var > 0 and np.mean(d**4) / var**2 < FLAT)
+
+
 #: χ² threshold of a test of independence on a 4 × 4 table (9 degrees of freedom):
 #: exceeded by independent variables with probability 1e-6.
 CHI2_LIMIT = float(chi2.isf(1e-6, 9))

@@ -58,36 +58,18 @@ def _count_variance_hint(draws) -> Hint:
         if all(0.8 * spread(v) <= counts.var() <= 1.2 * (spread(v) + 1 / 6)
                for (_, v, _), counts, _ in draws):
             return hint
-    if all(_flat(counts) for _, counts, _ in draws):
-        return _WIDTH_HINT
+    if all(_cases.flat(counts) for _, counts, _ in draws):
+        return _cases.WIDTH_HINT
     if all(counts.std() > v / np.sqrt(3) * 1.1 for (_, v, _), counts, _ in draws):
         return "the spread is uniform, variance × U(-1, 1), with standard deviation variance/√3"
     return None
 
 
-#: Counts drawn as a uniform number, rounded, have a kurtosis μ₄/σ⁴ near 1.8; a normal draw
-#: has 3 (2.6 once clipped at 0 for the small emitter). Below this, the draw was uniform.
-_FLAT = 2.4
-
-#: The hint for counts drawn uniformly over the wrong width (√(3 variance) × U, 2 variance × U).
-_WIDTH_HINT = ("your counts are spread evenly, but over the wrong width: Reeves' variance is the "
-               "half-width of the spread, not its statistical variance",
-               "mean + variance × U(-1, 1) with U = rng.uniform(-1, 1): the count then spreads "
-               "evenly from mean - variance to mean + variance")
-
-
-def _flat(counts) -> bool:
-    """Whether ``counts`` look drawn from a uniform number (kurtosis below :data:`_FLAT`)."""
-    d = np.asarray(counts, dtype=float) - np.mean(counts)
-    var = np.mean(d**2)
-    return bool(var > 0 and np.mean(d**4) / var**2 < _FLAT)
-
-
 def _range_hint(outside) -> Hint:
     """The hint for counts outside [mean - variance, mean + variance]: a uniform draw of the
     wrong width, or an unbounded (normal) draw."""
-    if outside and all(_flat(c) for c in outside):
-        return _WIDTH_HINT
+    if outside and all(_cases.flat(c) for c in outside):
+        return _cases.WIDTH_HINT
     return ("Reeves' count is never outside [mean - variance, mean + variance]: is your "
             "random number bounded?",
             "Reeves' count is mean + variance × U(-1, 1) with U uniform (rng.uniform(-1, 1)), "

@@ -89,8 +89,8 @@ def draw_fountain_offset(age: np.ndarray, drop: np.ndarray, predicted: np.ndarra
     ax1.legend(loc="upper left")
     ax2.plot(age, 1e15 * (drop - predicted), ".", ms=3, color="C0")
     ax2.axhline(0.0, color="0.4", lw=0.8)
-    ax2.set(xlabel="age t (s)", ylabel=r"drop $-\ \frac{1}{2} g\,dt\,t$ ($10^{-15}$ m)",
-            title="what the formula leaves: round-off")
+    ax2.set(xlabel="age t (s)", ylabel=r"residual ($10^{-15}$ m)",
+            title=r"drop $-\ \frac{1}{2} g\,dt\,t$: what the formula leaves is round-off")
     return fig
 
 
@@ -153,8 +153,8 @@ def draw_genesis(snap: dict, radius: float):
     ax1.grid(False)
     ax1.scatter(x[order, 0], x[order, 2], **kw)
     phi = np.linspace(0, 2 * np.pi, 200)
-    ax1.plot(radius * np.cos(phi), radius * np.sin(phi), color="white", lw=0.8, ls="--", alpha=0.6,
-             label="front R(t)")
+    ax1.plot(radius * np.cos(phi), radius * np.sin(phi), color="deepskyblue", lw=1.2, ls="--",
+             zorder=3, label="front R(t)")     # above the sparks, in a colour none of them has
     ax1.set(xlabel="x (m)", ylabel="z (m)", aspect="equal", title="from above")
     ax1.legend(loc="upper right", fontsize=8, facecolor="0.3", labelcolor="white", edgecolor="none")
     sx, sy = oblique(x[order])
