@@ -240,3 +240,11 @@ def broadcastable(name: str, value: object, shape: tuple[int, ...]) -> np.ndarra
         return np.broadcast_to(arr, shape)
     except ValueError:
         raise ValueError(f"{name} must have shape {shape} or broadcast to it, got {arr.shape}") from None
+
+
+def generator(name: str, value: object) -> np.random.Generator:
+    """``value`` if it is a NumPy random ``Generator`` (seeded by the caller)."""
+    if not isinstance(value, np.random.Generator):
+        raise TypeError(f"{name} must be a numpy Generator, e.g. np.random.default_rng(2026), "
+                        f"got {type(value).__name__}")
+    return value

@@ -241,7 +241,8 @@ def avoid(x, v, centers, radii, lookahead: float, strength: float, box: float | 
     pushes the boid sideways, along ``−p/|p|``, with ``strength × (1 − s/(lookahead + ρ))``
     (m/s²): harder the closer it is. A boid heading straight at the centre (``p = 0``)
     turns to its left (2D) or along an axis across ``u``. A boid inside an obstacle is
-    pushed straight out at full ``strength``. Boids at rest do not steer.
+    pushed straight out at full ``strength`` (exactly at its centre: across ``u`` as above,
+    or along the first axis at rest). Boids at rest steer only out of an obstacle.
     """
     x, v = _state(x, v)
     c, rho = real_array("centers", centers).reshape(-1, x.shape[1]), real_array("radii", radii).ravel()
@@ -272,8 +273,8 @@ def avoid(x, v, centers, radii, lookahead: float, strength: float, box: float | 
     side = np.where(length > 0, side, across)
     urgency = 1.0 - s[rows, first] / reach[0, first]
     out = np.where(hit[:, None], strength * urgency[:, None] * side, 0.0)
-    k_in = np.argmax(inside, axis=1)
-    out_dir, _ = _headings(-rel[rows, k_in])
+    out_dir, depth = _headings(-rel[rows, np.argmax(inside, axis=1)])   # at a centre: across u
+    out_dir = np.where(depth > 0, out_dir, np.where(speed > 0, across, np.eye(x.shape[1])[0]))
     return np.where(inside.any(axis=1)[:, None], strength * out_dir, out)
 
 
@@ -313,17 +314,17 @@ def random_polarization(n: int) -> float:
 
 def random_nearest_distance(n: int, box: float) -> float:
     """Exact mean nearest-neighbour distance (m) of ``n`` uniform random points in a
-    periodic square of side ``box``: ``∫ (1 − π r²/A)^{n−1} dr`` over ``r <= box/2``
-    (where the disc fits; beyond, the integrand is below 10⁻³⁰⁰ for any realistic n).
-    With ``u = π r²/A`` it is an incomplete beta function, computed in closed form:
-    ``½ √(A/π) B(½, n) I_{π/4}(½, n)``, close to ``1/(2√ρ)`` for large ``n``."""
+    periodic square of side ``box`` (``n >= 2``): ``∫ (1 − π r²/A)^{n−1} dr`` over ``r <= box/2``
+    (where the disc fits; beyond, the integrand is below 10⁻³⁰⁰ for any realistic n); with
+    ``u = π r²/A``, ``½ √(A/π) B(½, n) I_{π/4}(½, n)``, close to ``1/(2√ρ)`` for large ``n``."""
     n, area = positive_int("n", n), positive_finite("box", box) ** 2
+    if n < 2:
+        raise ValueError(f"n must be at least 2 (one point has no nearest neighbour), got {n}")
     return float(0.5 * np.sqrt(area / np.pi) * beta(0.5, n) * betainc(0.5, n, np.pi / 4))
 
 
 def random_flock(n: int, box: float, speed: float, rng: np.random.Generator):
     """``n`` boids uniform in the square ``[0, box)²`` with random headings at ``speed``."""
     n, box, speed = positive_int("n", n), positive_finite("box", box), nonnegative("speed", speed)
-    x = rng.uniform(0.0, box, (n, 2))
-    theta = rng.uniform(0.0, 2.0 * np.pi, n)
+    x, theta = rng.uniform(0.0, box, (n, 2)), rng.uniform(0.0, 2.0 * np.pi, n)
     return x, speed * np.stack((np.cos(theta), np.sin(theta)), axis=1)

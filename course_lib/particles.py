@@ -27,6 +27,7 @@ import numpy as np
 
 from . import _validate
 from ._validate import count, finite_real, mean_and_spread, nonnegative, real_array, vector
+from .integrators import BlowUpError
 from .population import LIFETIME_RTOL, expected_population, reached, steady_population, survival
 
 __all__ = ["LIFETIME_RTOL", "SHAPES", "Emitter", "ParticleSystem", "around", "expected_population", "reached",
@@ -68,7 +69,7 @@ class ParticleSystem:
         for name, shape in (attributes or {}).items():
             if name in self.shapes or name in _CLOCK:
                 raise ValueError(f"attribute {name!r} is built in; choose another name")
-            self.shapes[name] = tuple(shape)
+            self.shapes[name] = _value_shape(name, shape)
         self._data = {name: np.zeros((capacity, *s)) for name, s in {**self.shapes, **_CLOCK}.items()}
 
     @property
@@ -133,10 +134,28 @@ class ParticleSystem:
         (m/s²) broadcasts to ``(n, dim)`` or is a callable ``acceleration(system)``."""
         dt = _validate.positive_finite("dt", dt)
         if acceleration is not None:
-            a = acceleration(self) if callable(acceleration) else acceleration
-            self["v"][...] += dt * np.asarray(a, dtype=float)
-        self["x"][...] += dt * self["v"]
+            a = self._acceleration(acceleration(self) if callable(acceleration) else acceleration)
+        with np.errstate(over="ignore", invalid="ignore"):      # a blow-up is reported below
+            if acceleration is not None:
+                self["v"][...] += dt * a
+            self["x"][...] += dt * self["v"]
         self._tick(dt)
+        self._still_finite("step")
+
+    def _acceleration(self, a) -> np.ndarray:
+        """``a`` (m/s²) checked: numbers, finite, broadcasting to ``(n, dim)``."""
+        a = _validate.real_array("acceleration", a) if np.size(a) else np.zeros((0, self.dim))
+        try:
+            return np.broadcast_to(a, (self.n, self.dim))
+        except ValueError:
+            raise ValueError(f"acceleration must have shape ({self.n}, {self.dim}) or broadcast to it "
+                             f"(e.g. ({self.dim},)), got {a.shape}") from None
+
+    def _still_finite(self, what: str) -> None:
+        """Stop a run whose positions or velocities are no longer finite (a blow-up)."""
+        if not (np.all(np.isfinite(self["x"])) and np.all(np.isfinite(self["v"]))):
+            raise BlowUpError(f"the particles blew up in {what}: x or v overflowed to inf or NaN "
+                              "after this step (too large a dt or force)")
 
     def advect(self, t: float, dt: float, field: Callable) -> None:
         """Carry the particles by a velocity field ``V(t, x)`` with one midpoint (RK2) step;
@@ -144,11 +163,13 @@ class ParticleSystem:
         dt, t = _validate.positive_finite("dt", dt), finite_real("t", t)
         _validate.callable_arg("field", field, "(t, x)")
         x = self["x"]
-        mid = x + 0.5 * dt * np.asarray(field(t, x))
-        vel = np.asarray(field(t + 0.5 * dt, mid))
-        x += dt * vel
+        with np.errstate(over="ignore", invalid="ignore"):      # a blow-up is reported below
+            mid = x + 0.5 * dt * np.asarray(field(t, x))
+            vel = np.asarray(field(t + 0.5 * dt, mid))
+            x += dt * vel
         self["v"][...] = vel
         self._tick(dt)
+        self._still_finite("advect")
 
     def compact(self, keep) -> int:
         """Keep the live particles where ``keep`` is True, packed to the front in order
@@ -176,11 +197,21 @@ def around(mean, variance, size, rng: np.random.Generator) -> np.ndarray:
     return mean + variance * rng.uniform(-1.0, 1.0, size)
 
 
+def _value_shape(name: str, shape) -> tuple[int, ...]:
+    """The shape of one particle's value of attribute ``name``: a tuple of ints >= 0."""
+    if not isinstance(shape, tuple | list) or not all(
+            isinstance(k, int | np.integer) and not isinstance(k, bool) and k >= 0 for k in shape):
+        raise TypeError(f"attributes[{name!r}] must be the shape of one particle's value, a tuple of "
+                        f"ints such as () or (3,), got {shape!r}")
+    return tuple(int(k) for k in shape)
+
+
 def reeves_count(mean: float, variance: float, rng: np.random.Generator) -> int:
     """Particles this frame: ``mean + variance × U(−1, 1)``, rounded at random,
     ``⌊y + u⌋`` with ``u ~ U(0, 1)``, which keeps the mean exactly ``mean`` (if
     ``mean >= variance``); never negative."""
     mean, variance = finite_real("mean", mean), nonnegative("variance", variance)
+    rng = _validate.generator("rng", rng)
     y = mean + variance * rng.uniform(-1.0, 1.0)
     return max(0, int(np.floor(y + rng.random())))
 

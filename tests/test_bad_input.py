@@ -569,3 +569,94 @@ def test_every_entry_point_names_the_bad_argument(name, arg, value):
         ENTRY[name].run(**{arg: value})
     assert re.search(rf"(?<![\w.]){re.escape(arg)}(?!\w)", str(err.value)), \
         f"{name}: the message does not name {arg!r}: {err.value}"
+
+
+# --- particles and boids: the gaps a fifth blind read found (notebooks 09 and 10) -----------
+
+def _system(n=4, dim=3, **kw):
+    from course_lib import particles as P
+    ps = P.ParticleSystem(dim=dim, capacity=8, **kw)
+    if n:
+        ps.add(x=np.zeros((n, dim)), v=np.ones((n, dim)), lifetime=1.0)
+    return ps
+
+
+@pytest.mark.parametrize("bad", [[0.0, np.inf, 0.0], [np.nan, 0.0, 0.0], np.full((4, 3), -np.inf)])
+@pytest.mark.parametrize("as_callable", [False, True])
+def test_particle_step_refuses_a_non_finite_acceleration(bad, as_callable):
+    ps = _system()
+    before = ps["v"].copy()
+    with pytest.raises(ValueError, match="acceleration must be finite"):
+        ps.step(0.1, (lambda system: np.asarray(bad)) if as_callable else bad)
+    assert np.array_equal(ps["v"], before)                 # refused before anything moved
+
+
+@pytest.mark.parametrize("bad", [[0.0, 1.0], np.zeros((3, 3)), np.zeros((4, 2)), np.zeros((2, 4, 3))])
+def test_particle_step_names_a_wrong_shape_acceleration(bad):
+    with pytest.raises(ValueError, match=r"acceleration must have shape \(4, 3\)"):
+        _system().step(0.1, bad)
+
+
+def test_particle_step_takes_an_acceleration_that_broadcasts_and_an_empty_system():
+    ps = _system()
+    ps.step(0.1, [0.0, -9.81, 0.0])
+    ps.step(0.1, lambda system: -system["v"])
+    empty = _system(n=0)
+    empty.step(0.1, lambda system: -system["v"])              # (0, 3): nothing to check
+    empty.step(0.1, [0.0, -9.81, 0.0])
+    with pytest.raises(TypeError, match="acceleration"):
+        ps.step(0.1, "down")
+
+
+@pytest.mark.parametrize("huge", [1e308, -1e308])
+def test_particle_step_stops_a_blow_up_and_says_so(huge):
+    """Finite input that overflows (a blow-up) stops the run with a message, not inf."""
+    from course_lib.integrators import BlowUpError
+    ps = _system()
+    ps["v"][...] = huge
+    with pytest.raises(BlowUpError, match="blew up in step"):
+        ps.step(10.0, [0.0, huge, 0.0])
+    ps2 = _system(dim=2)
+    with pytest.raises(BlowUpError, match="blew up in advect"):
+        ps2.advect(0.0, 10.0, lambda t, x: np.full_like(x, huge))
+
+
+@pytest.mark.parametrize("shape", ["x", 3.0, (3.0,), (-1,), (True,), None, {"a": 1}])
+def test_particle_attributes_must_be_shapes(shape):
+    from course_lib import particles as P
+    with pytest.raises(TypeError, match=r"attributes\['c'\] must be the shape of one particle's value"):
+        P.ParticleSystem(attributes={"c": shape})
+
+
+def test_particle_attributes_accept_tuples_and_lists():
+    from course_lib import particles as P
+    ps = P.ParticleSystem(attributes={"c": (3,), "t": (), "m": [2, 2]})
+    assert ps.shapes["c"] == (3,) and ps.shapes["t"] == () and ps.shapes["m"] == (2, 2)
+
+
+@pytest.mark.parametrize("rng", [None, 2026, np.random.RandomState(1), "seed"])
+def test_reeves_count_needs_a_generator(rng):
+    from course_lib import particles as P
+    with pytest.raises(TypeError, match="rng must be a numpy Generator"):
+        P.reeves_count(5.0, 1.0, rng)
+
+
+@pytest.mark.parametrize("n", [1, 0, -3])
+def test_random_nearest_distance_needs_two_points(n):
+    from course_lib import boids as B
+    with pytest.raises(ValueError, match="n must be"):
+        B.random_nearest_distance(n, 20.0)
+    assert B.random_nearest_distance(2, 20.0) > 0
+
+
+def test_avoid_pushes_a_boid_at_an_obstacle_centre_out():
+    """A boid exactly at a centre is pushed out across its heading (its left in 2D), at rest
+    along the first axis; off the centre, straight out, as before."""
+    from course_lib import boids as B
+    centers, radii = np.array([[5.0, 5.0], [10.0, 2.0]]), np.array([1.0, 0.5])
+    x = np.array([[5.0, 5.0], [10.0, 2.0], [10.0, 2.0], [5.3, 5.0]])
+    v = np.array([[1.0, 0.0], [0.0, 2.0], [0.0, 0.0], [0.0, 1.0]])
+    a = B.avoid(x, v, centers, radii, lookahead=2.0, strength=3.0)
+    assert np.allclose(a, [[0.0, 3.0], [-3.0, 0.0], [3.0, 0.0], [3.0, 0.0]])
+    a3 = B.avoid(np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]), np.zeros((1, 3)), [1.0], 2.0, 3.0)
+    assert np.allclose(np.linalg.norm(a3), 3.0) and abs(a3[0, 2]) < 1e-12     # across u
