@@ -57,6 +57,8 @@ def pytest_configure(config):
 
     if _asked_for(config):
         signal.signal(signal.SIGTERM, interrupt)
+    config.addinivalue_line("markers", "fresh_lab: the test loads JupyterLab in a fresh page "
+                            "instead of the worker's shared JupyterLab window")
 
 
 def pytest_ignore_collect(collection_path, config):
@@ -122,11 +124,10 @@ def _local(url: str) -> bool:
     return url.startswith(("file:", "data:", "blob:", "http://127.0.0.1", "ws://127.0.0.1"))
 
 
-@pytest.fixture
-def page(browser, request):
-    """A fresh page (1400 x 900) in its own context with the network blocked beyond this
-    machine (files, data and blob URLs, 127.0.0.1); uncaught script errors are collected in
-    ``page.errors`` and blocked URLs in ``page.blocked``."""
+def _new_page(browser):
+    """A page (1400 x 900) in its own context with the network blocked beyond this machine
+    (files, data and blob URLs, 127.0.0.1); uncaught script errors are collected in
+    ``page.errors`` and blocked URLs in ``page.blocked``. Returns (context, page)."""
     context = browser.new_context(viewport={"width": 1400, "height": 900})
     blocked: list[str] = []
 
@@ -142,11 +143,50 @@ def page(browser, request):
     pg.blocked, pg.errors = blocked, []
     pg.on("pageerror", lambda e: pg.errors.append(str(e)))
     pg.set_default_timeout(60_000)
-    yield pg
+    return context, pg
+
+
+def _shoot(pg, request) -> None:
     if getattr(request.node, "failed_call", False):
         SHOTS.mkdir(parents=True, exist_ok=True)
         with contextlib.suppress(Exception):
             pg.screenshot(path=str(SHOTS / f"{request.node.name}.png"))
+
+
+@pytest.fixture(scope="session")
+def _lab_window(browser, lab):
+    """One page per worker with JupyterLab loaded (loading it takes 7 to 13 s of a test on
+    this machine; opening a notebook in it 1.5 s): the tests that use ``lab`` open their
+    notebooks in it with ``labpage.open_notebook`` (JupyterLab's own docmanager:open)."""
+    context, pg = _new_page(browser)
+    pg.goto(f"{lab.base}/lab?reset&token={TOKEN}")
+    pg.wait_for_function("() => window.jupyterapp && window.jupyterapp.shell", timeout=120_000)
+    pg.evaluate("() => window.jupyterapp.restored")
+    yield pg
+    context.close()
+
+
+@pytest.fixture
+def page(browser, request):
+    """A fresh page (see ``_new_page``). A test that uses ``lab`` gets instead the worker's
+    JupyterLab window, emptied after the test (its notebooks disposed unsaved, dialogs
+    dismissed, kernels shut down), unless marked ``fresh_lab`` (a student's first launch)."""
+    if "lab" in request.fixturenames and not request.node.get_closest_marker("fresh_lab"):
+        lab = request.getfixturevalue("lab")
+        pg = request.getfixturevalue("_lab_window")
+        pg.blocked.clear()
+        pg.errors.clear()
+        yield pg
+        _shoot(pg, request)
+        pg.evaluate("""() => {
+            document.querySelectorAll('.jp-Dialog .jp-mod-reject').forEach(b => b.click());
+            for (const w of Array.from(window.jupyterapp.shell.widgets('main'))) w.dispose();
+          }""")
+        lab.shutdown_kernels()
+        return
+    context, pg = _new_page(browser)
+    yield pg
+    _shoot(pg, request)
     context.close()
 
 

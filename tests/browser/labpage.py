@@ -14,28 +14,51 @@ import time
 
 NB = "window.jupyterapp.shell.currentWidget"
 
-READY = f"""() => {{
-  const w = window.jupyterapp && {NB};
-  const k = w && w.sessionContext && w.sessionContext.session && w.sessionContext.session.kernel;
-  return !!k && k.connectionStatus === 'connected' && k.status === 'idle'
-    && w.context.isReady && w.content.widgets.length > 0;
-}}"""
+# the current widget is the notebook at ``path`` (the argument), its model loaded
+_OPEN = f"""const w = window.jupyterapp && {NB};
+  if (!w || !w.context || w.context.path !== path || !w.context.isReady
+      || w.content.widgets.length === 0) return false;"""
 
+READY = f"""(path) => {{
+  {_OPEN}
+  const k = w.sessionContext && w.sessionContext.session && w.sessionContext.session.kernel;
+  return !!k && k.connectionStatus === 'connected' && k.status === 'idle';
+}}"""
 
 #: the notebook's model is loaded and its session exists (its kernel may still be starting)
-LOADED = f"""() => {{
-  const w = window.jupyterapp && {NB};
-  return !!w && !!w.context && w.context.isReady && w.content.widgets.length > 0
-    && !!(w.sessionContext && w.sessionContext.session);
+LOADED = f"""(path) => {{
+  {_OPEN}
+  return !!(w.sessionContext && w.sessionContext.session);
 }}"""
+
+#: the notebook's model is loaded (opened with no kernel)
+MODEL = f"""(path) => {{
+  {_OPEN}
+  return true;
+}}"""
+
+
+def _path(page) -> str:
+    return page.evaluate(f"() => {NB}.context.path")
 
 
 def open_notebook(page, lab, path: str, *, kernel: bool = True) -> None:
-    """Open ``path`` (relative to the served folder) and wait for an idle kernel, or, with
-    ``kernel=False`` (a test of stored outputs only), for the model and the session: the
-    kernel goes on starting, unwaited for, and ``lab.shutdown_kernels()`` stops it."""
-    page.goto(lab.url(path))
-    page.wait_for_function(READY if kernel else LOADED, timeout=120_000, polling=100)
+    """Open ``path`` (relative to the served folder) and wait for an idle kernel. With
+    ``kernel=False`` (a test of stored outputs only, which no kernel changes) the notebook
+    opens in the worker's JupyterLab window with no kernel (JupyterLab's own
+    ``kernelPreference: {shouldStart: false}``; starting one costs 9 to 13 s here), or, in a
+    fresh page, with its kernel left starting, unwaited for, once the session exists (so that
+    ``lab.shutdown_kernels()`` stops it). In a page where JupyterLab runs already, the
+    notebook is opened with JupyterLab's docmanager:open command."""
+    if page.url.startswith(lab.base) and page.evaluate("() => !!window.jupyterapp"):
+        page.evaluate("""([path, start]) => window.jupyterapp.commands.execute('docmanager:open',
+            {path, factory: 'Notebook', ...(start ? {} : {kernelPreference: {shouldStart: false}})})""",
+                      [path, kernel])
+        wait = READY if kernel else MODEL
+    else:
+        page.goto(lab.url(path))
+        wait = READY if kernel else LOADED
+    page.wait_for_function(wait, arg=path, timeout=120_000, polling=100)
 
 
 def is_dirty(page) -> bool:
@@ -58,7 +81,7 @@ def _run(page, index: int, command: str, timeout_ms: int) -> None:
         w.content.activeCellIndex = i;
         await window.jupyterapp.commands.execute(command);
       }}""", [index, command])
-    page.wait_for_function(READY, timeout=timeout_ms, polling=100)
+    page.wait_for_function(READY, arg=_path(page), timeout=timeout_ms, polling=100)
 
 
 def rerun(page, index: int) -> None:

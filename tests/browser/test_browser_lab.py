@@ -145,6 +145,7 @@ def test_animation_shows_a_frame_and_plays_on_the_first_click(page, lab):
         lab.shutdown_kernels()
 
 
+@pytest.mark.fresh_lab
 def test_first_launch_is_quiet(page, lab):
     """No news prompt in the page; no encryption warning, skipped-server list or
     deprecation warning in the terminal (the lab log, kernels included)."""
