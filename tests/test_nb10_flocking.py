@@ -793,3 +793,59 @@ def test_grid_cost_measure_tells_linear_from_quadratic():
     _, peak, total = cases.measured(table, small, 1.0)
     assert peak > 2 * check.MEMORY_LIMIT and total >= peak
     assert cases.line_limit(300) == 250_000 and cases.line_limit(8000) == 800_000
+
+
+# --- the fifth read's two false sentences (cells 31 and 35) ---------------------------------
+
+def _prose() -> str:
+    import nbformat
+    from notebook_helpers import ROOT
+    cells = nbformat.read(ROOT / "solutions" / "10_flocking.ipynb", as_version=4).cells
+    return " ".join(" ".join(c.source.split()) for c in cells if c.cell_type == "markdown")
+
+
+@pytest.mark.roundoff
+def test_without_alignment_the_polarization_after_15_s_not_over_the_run():
+    """Cell 35 quotes the eight runs' polarization *after 15 s*, rounded: every final value
+    rounds into [0.05, 0.11] with a margin far above the rounding spread (< 1e-6, asserted in
+    test_key_states_over_eight_seeds). Over the run it does not stay there (random headings
+    of 150 boids scatter with SD 0.038), so "stays between" was false."""
+    text = _prose()
+    assert ("after 15 s the polarization lies between 0.05 and 0.11 (rounded) in the eight runs"
+            in text) and "stays between 0.05 and 0.11" not in text
+    e = studies.ensemble(alignment=0.0)
+    assert e.final.shape == (8,)
+    assert clear(e.final, 0.045, 1e-3) and clear(e.final, 0.115, 1e-3)
+    assert np.all((e.final > 0.045) & (e.final < 0.115))
+    history = e.polarization[:, e.t > 1.0]
+    assert history.min() < 0.045 - 0.02 and history.max() > 0.115 + 0.01     # 0.003 and 0.141
+
+
+def test_the_alignment_step_becomes_unstable_between_6_and_8_per_s():
+    """Cell 31: between 6 and 8 /s the step becomes unstable (f < -1), as Section 5 defines
+    it; it overshoots (f < 0) from w_a dt = (n - 1)/n on, at most 5 /s at dt = 0.2 s, where
+    every run still orders (test_alignment_sweep_over_eight_seeds: 8 of 8 above 0.9 at 6 /s,
+    8 of 8 reversing at 8 /s). Theory puts the instability of a flock between the limit of
+    isolated pairs, w_a dt = 1, and that of a crowd, w_a dt -> 2."""
+    text = _prose()
+    assert "becomes unstable ($f < -1$, Section 5)" in text
+    assert "alignment step overshoots and every boid" not in text
+    dt = nb10.DT
+    assert dt == 0.2
+
+    def factor(w, n):
+        return 1.0 - w * dt * n / (n - 1)
+
+    def unstable_from(n):                      # f = -1
+        return 2.0 * (n - 1) / (n * dt)
+
+    def overshoots_from(n):                    # f = 0
+        return (n - 1) / (n * dt)
+
+    ns = np.arange(2, 151)
+    limits = unstable_from(ns)
+    assert limits.min() == pytest.approx(1 / dt) and limits.max() < 2 / dt    # 5 to 10 /s
+    assert 1 / dt < 6.0 < 8.0 < 2 / dt                                        # inside theory's band
+    assert overshoots_from(ns).max() < 5.0 + 1e-12 < 6.0                      # 6 /s already overshoots
+    assert np.all(factor(6.0, ns[ns >= 4]) > -1.0)                            # yet is stable for n >= 4
+    assert factor(8.0, 2) < factor(8.0, 5) <= -1.0 + 1e-12                    # 8 /s: unstable for n <= 5
