@@ -84,7 +84,8 @@ def run(quick: bool = False) -> list[Row]:
             again1, _ = _grade(made["submissions"], Path(tmp) / "one-again.csv", 1)
             again2, _ = _grade(made["submissions"], Path(tmp) / "two-again.csv", 2)
             wall1, wall2 = min(wall1, again1), min(wall2, again2)
-            books = [(Path(tmp) / f).read_bytes() for f in ("one.csv", "two.csv", "one-again.csv", "two-again.csv")]
+            names = ("one.csv", "two.csv", "one-again.csv", "two-again.csv")
+            books = [(Path(tmp) / f).read_bytes() for f in names]
             same = all(b == books[0] for b in books)
     per_minute = n / (cpu1 / 60)
     speedup = wall1 / wall2
@@ -99,6 +100,6 @@ def run(quick: bool = False) -> list[Row]:
         Row(f"grading speedup, LocalCluster 1 → 2 workers (same {n} submissions)", wall2,
             "≥ 1.7× on a quiet 2-core machine", speedup >= 1.7 and same,
             ratio=f"{speedup:.2f}×",
-            note=f"wall {wall1:.1f} s → {wall2:.1f} s, the faster of two runs each; gradebooks identical: {same}; "
-                 f"load average {load} on {os.cpu_count()} cores"),
+            note=f"wall {wall1:.1f} s → {wall2:.1f} s, the faster of two runs each; "
+                 f"gradebooks identical: {same}; load average {load} on {os.cpu_count()} cores"),
     ]

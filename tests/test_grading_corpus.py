@@ -223,10 +223,6 @@ def test_class_report_is_self_contained(graded):
     assert "radius_after" in html and "most frequent mistakes" in html.lower()
 
 
-def test_grading_time_is_reasonable(graded):
-    assert graded.seconds < 240  # about 30 s on two idle cores; generous for a busy machine
-
-
 def _printed(rows, student: str) -> str:
     run = next(r.details["run"] for r in rows if r.student == student and r.details.get("run"))
     return "".join(cell.get("output") or "" for cell in run.cells.values())

@@ -23,8 +23,10 @@ def _grade_parser(sub) -> None:
                    help="class report HTML (default: <out>-report.html)")
     p.add_argument("--jobs", type=int, default=None, help="notebooks graded at once (default: cores)")
     p.add_argument("--timeout", type=float, default=180.0, help="seconds per notebook, all included")
-    p.add_argument("--cell-timeout", type=float, default=30.0, help="seconds per code cell")
-    p.add_argument("--exercise-timeout", type=float, default=20.0, help="seconds per exercise check")
+    p.add_argument("--cell-timeout", type=float, default=30.0,
+                   help="CPU seconds per code cell (the wall clock may run 3x as long)")
+    p.add_argument("--exercise-timeout", type=float, default=20.0,
+                   help="CPU seconds per exercise check (the wall clock may run 3x as long)")
     p.add_argument("--memory", type=int, default=2048, help="address-space limit per notebook (MB)")
     p.add_argument("--student", nargs="+", action="extend", default=None,
                    help="grade only these students (folder names), e.g. to regrade")

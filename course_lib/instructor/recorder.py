@@ -96,6 +96,11 @@ class Recorder:
             log.append(entry)
             try:
                 out = value(*args, **kwargs)
+            except Timeout:
+                # the time limit struck inside the check's own function: not something the
+                # function raised, and the replay stops at this call anyway
+                entry["interrupted"] = True
+                raise
             except BaseException as exc:
                 entry["raised"] = type(exc).__name__
                 raise
@@ -105,12 +110,26 @@ class Recorder:
         return functools.update_wrapper(spy, value)
 
     def __call__(self, *args, **kwargs):
+        # The time limit can strike anywhere, in this bookkeeping too (between the answer's
+        # return and its encoding, say): the call is then marked as timed out, so the grader's
+        # replay stops there as well, instead of finding an incomplete call and calling it
+        # tampering.
+        made: list[dict] = []
+        try:
+            return self._record(made, args, kwargs)
+        except Timeout:
+            if made:
+                made[0]["timeout"] = True
+            raise
+
+    def _record(self, made: list, args: tuple, kwargs: dict):
         codec = self.codec
         items = list(enumerate(args)) + list(kwargs.items())
         before = {str(k): codec.fingerprint(v) for k, v in items}
         log: list = []
         call = {"sig": codec.summary([list(args), kwargs]), "callbacks": log}
         self.calls.append(call)
+        made.append(call)
         spied = [self._spy(a, str(i), log) for i, a in enumerate(args)]
         spied_kw = {k: self._spy(v, k, log) for k, v in kwargs.items()}
         try:

@@ -88,6 +88,8 @@ class Replay:
         for entry in log:
             key = str(entry.get("arg"))
             target = args[int(key)] if key.isdigit() and int(key) < len(args) else kwargs.get(key)
+            if entry.get("interrupted"):  # the time limit struck during this callback
+                raise ReplayStop("timeout")
             if not callable(target) or entry.get("args") is None:
                 continue
             cb_args, cb_kwargs = codec.decode(entry["args"])
@@ -164,7 +166,7 @@ def judge(check, record: dict, limits_exercise_s: float) -> tuple[str, str, dict
                 "the grader's: something in the notebook changed the checker or its data", details)
     if stop == "timeout" or (stop == "exhausted" and record.get("timeout")):
         return ("timeout", f"your function did not finish within {limits_exercise_s:g} s "
-                f"(call {replay.k} of the check)", details)
+                f"of CPU time (call {replay.k} of the check)", details)
     if stop:
         if record.get("check_error"):
             details["traceback"] = record["check_error"]
