@@ -12,9 +12,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from planted import Plant, judge
+from planted import Plant, define, judge
 from test_nb06_forces import NBODY_RIGHT
 
+from course_lib.check import evaluate
 from course_lib.check import nb06 as check06
 
 # --- 06 Exercise 4: a loop over bodies is caught however the input is converted ----------
@@ -302,3 +303,37 @@ def test_notebook_05_summary_says_rk4_energy_falls_every_step():
     run = cl.integrate(spring, cl.stack_state([[1.0]], [[0.0]]), (0.0, 200.0), 0.5, "rk4")
     energy = 0.5 * (run.y[:, 0, 0, 0] ** 2 + run.y[:, 1, 0, 0] ** 2)
     assert np.all(np.diff(energy) < 0) and energy[-1] > 0
+
+
+# --- 08 (and every notebook): the library message says "uses" when a name is not called ---
+
+_NAMES_ONLY = """def strand_springs(x0):
+    builder = cl.springs.hair_chain              # named, never called
+    net = cl.springs.SpringNetwork(np.zeros((2, 3)), [0], [1], [1.0], 1.0)
+    return net.i, net.j, net.rest"""
+_CALLS_ONLY = """def strand_springs(x0):
+    net = cl.strands.strand_network(x0, 1.0, 1.0, 1.0)
+    return net.i, net.j, net.rest"""
+
+
+@pytest.mark.parametrize("source, verb, names", [
+    (_NAMES_ONLY, "uses", ("hair_chain", "SpringNetwork")),
+    ("def strand_springs(x0, chain=cl.springs.hair_chain):\n    return 0, 0, 0",
+     "uses", ("hair_chain",)),
+    ("def strand_springs(x0):\n    return pick(cl.springs.hair_chain)",
+     "uses", ("hair_chain",)),
+    (_CALLS_ONLY, "calls", ("course_lib.strands.strand_network",)),
+    ("def strand_springs(x0):\n    return hair_chain(len(x0))", "calls",
+     ("hair_chain",)),
+], ids=["assigned and a class called", "a default", "passed on", "called", "called bare"])
+def test_library_message_says_uses_when_a_name_is_only_named(source, verb, names):
+    from course_lib.check import nb08 as check08
+    from course_lib.springs import hair_chain
+
+    check = check08.strand_springs
+    verdict = evaluate(check, define(source, "strand_springs", pick=lambda f: f,
+                                     hair_chain=hair_chain))
+    line = verdict["failed_cases"][0]
+    assert verdict["status"] == "incorrect"
+    assert line.startswith(f"uses the reference: your function {verb} "), line
+    assert all(name in line for name in names), line

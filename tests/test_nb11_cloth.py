@@ -492,7 +492,7 @@ SOLVE_PLANTED = {
     "delegates to the library": ((
         "def bw_velocity_change(mass, dFdx, dFdv, F0, v0, h):\n"
         "    raise ValueError(cl.baraff_witkin.BaraffWitkin)", "bw_velocity_change"),
-        "incorrect", "uses the reference: your function calls course_lib.baraff_witkin"),
+        "incorrect", "uses the reference: your function uses course_lib.baraff_witkin"),
     "damping left out (broken by damped cloths)": (_solve_source(matrix="M - h * h * dFdx"), "incorrect",
                                                    "keep the h ∂F/∂v term"),
     "start velocity left out of b (broken by moving cloths)": (

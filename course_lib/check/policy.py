@@ -29,6 +29,7 @@ from __future__ import annotations
 import dis
 import importlib
 import inspect
+import sys
 import types
 from collections.abc import Callable, Iterator
 
@@ -45,12 +46,25 @@ def _code_objects(code: types.CodeType) -> Iterator[types.CodeType]:
             yield from _code_objects(const)
 
 
-def name_chains(code: types.CodeType) -> list[tuple[str, str, tuple[str, ...]]]:
+def _loads_to_call(ins: dis.Instruction, previous: str | None) -> bool:
+    """Whether ``ins`` loads a callable the code calls at once (``a.f(...)``, ``f(...)``):
+    CPython marks these loads (a method load, or a NULL pushed with or before the name)."""
+    if ins.opname == "LOAD_METHOD" or previous == "PUSH_NULL":
+        return True
+    flagged = ins.opname == "LOAD_GLOBAL" or (ins.opname == "LOAD_ATTR"
+                                               and sys.version_info >= (3, 12))
+    return flagged and bool((ins.arg or 0) & 1)
+
+
+def name_chains(code: types.CodeType, called: set | None = None
+                ) -> list[tuple[str, str, tuple[str, ...]]]:
     """Dotted names a code object (and its nested functions) loads.
 
     Returns ``(kind, head, attributes)`` triples: ``kind`` is ``"global"``, ``"deref"``
     (a closure variable) or ``"path"`` (a module path imported inside the function, then
-    ``head`` is that dotted path), e.g. ``("global", "cl", ("forward_euler",))``.
+    ``head`` is that dotted path), e.g. ``("global", "cl", ("forward_euler",))``. Given a
+    set ``called``, the triples whose last name is called where it is loaded are added to it
+    (the rest are only named: assigned, passed or returned).
     """
     chains = []
     for co in _code_objects(code):
@@ -59,13 +73,18 @@ def name_chains(code: types.CodeType) -> list[tuple[str, str, tuple[str, ...]]]:
         from_list = False
         last_const = None
         chain: list | None = None
+        previous = None
         for ins in dis.get_instructions(co):
             op = ins.opname
             if op in _LOADS_ATTR and chain is not None:
                 chain[2].append(ins.argval)
+                chain[3] = _loads_to_call(ins, None)
+                previous = op
                 continue
             if chain is not None:
                 chains.append((chain[0], chain[1], tuple(chain[2])))
+                if called is not None and (chain[3] or (not chain[2] and op == "PUSH_NULL")):
+                    called.add(chains[-1])
                 chain = None
             if op == "IMPORT_NAME":
                 module = str(ins.argval)
@@ -82,15 +101,18 @@ def name_chains(code: types.CodeType) -> list[tuple[str, str, tuple[str, ...]]]:
                 base = None
                 name = ins.argval
                 if _LOADS_HEAD[op] != "local":
-                    chain = [_LOADS_HEAD[op], name, []]
+                    chain = [_LOADS_HEAD[op], name, [], _loads_to_call(ins, previous)]
                 elif name in local_imports:
-                    chain = ["path", local_imports[name], []]
+                    chain = ["path", local_imports[name], [], _loads_to_call(ins, previous)]
             elif op not in ("SWAP", "POP_TOP", "COPY"):
                 base = None
             if op == "LOAD_CONST":
                 last_const = ins.argval
+            previous = op
         if chain is not None:
             chains.append((chain[0], chain[1], tuple(chain[2])))
+            if called is not None and chain[3]:
+                called.add(chains[-1])
     return chains
 
 
@@ -180,15 +202,18 @@ def _reference_name(obj: object, rules: dict) -> str | None:
 
 
 def references_in_code(code: types.CodeType, resolve: Callable[[str, str], object | None],
-                       check: Callable) -> list[str]:
+                       check: Callable, named: list | None = None) -> list[str]:
     """Library callables ``code`` reaches that ``check`` does not allow, as dotted names.
 
     ``resolve(kind, head)`` returns the object a ``"global"`` or ``"deref"`` head names (or
-    None); ``"path"`` heads are imported with :func:`import_path`.
+    None); ``"path"`` heads are imported with :func:`import_path`. Given a list ``named``,
+    the names no load calls on the spot (assigned, passed, imported) are added to it.
     """
     rules = exercise_rules(check)
     found: list[str] = []
-    for kind, head, attrs in name_chains(code):
+    called: set = set()
+    via_call: set[str] = set()
+    for kind, head, attrs in name_chains(code, called):
         if kind == "path" and rules["prefixes"] and f"{head}.".startswith(
                 tuple(p.rstrip(".") + "." for p in rules["prefixes"])):
             # an import inside the function of a refused module (a C class such as cKDTree is
@@ -204,6 +229,10 @@ def references_in_code(code: types.CodeType, resolve: Callable[[str, str], objec
             ref = _reference_name(reached, rules)
             if ref and ref not in found:
                 found.append(ref)
+            if ref and (kind, head, attrs) in called:
+                via_call.add(ref)
+    if named is not None:
+        named.extend(f for f in found if f not in via_call)
     return found
 
 
@@ -226,10 +255,13 @@ def public_name(name: str) -> str:
     return ".".join(parts[:private[0]] + parts[-1:]) if private else name
 
 
-def message(found: list[str], itself: bool = False) -> str:
-    """The verdict line for an answer that uses the library (the grader matches its start)."""
+def message(found: list[str], itself: bool = False, named: list[str] = ()) -> str:
+    """The verdict line for an answer that uses the library (the grader matches its start).
+    ``named`` lists those of ``found`` the answer only names (never calls where it loads
+    them): with any of them the line says "uses", not "calls"."""
+    verb = "uses " if any(f in found for f in named) else "calls "
     found = list(dict.fromkeys(public_name(f) for f in found))
-    what = ("your answer is the library's own " if itself else "your function calls ") + ", ".join(found[:3])
+    what = ("your answer is the library's own " if itself else "your function " + verb) + ", ".join(found[:3])
     outside = [f for f in found if not f.startswith(("course_lib", "a function of course_lib"))]
     if outside and len(outside) == len(found):       # only a refused outside library
         return (f"uses the reference: {what}, and this exercise refuses "
@@ -272,7 +304,8 @@ def reference_use(check: Callable, answer: object) -> str | None:
                 return None
         return glb.get(head)
 
-    found = references_in_code(code, resolve, check)
+    named: list[str] = []
+    found = references_in_code(code, resolve, check, named)
     rules = exercise_rules(check)
-    found += [r for d in _defaults(answer) if (r := _reference_name(d, rules)) and r not in found]
-    return message(found) if found else None
+    defaults = [r for d in _defaults(answer) if (r := _reference_name(d, rules)) and r not in found]
+    return message(found + defaults, named=named + defaults) if found or defaults else None
