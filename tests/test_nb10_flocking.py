@@ -849,3 +849,19 @@ def test_the_alignment_step_becomes_unstable_between_6_and_8_per_s():
     assert overshoots_from(ns).max() < 5.0 + 1e-12 < 6.0                      # 6 /s already overshoots
     assert np.all(factor(6.0, ns[ns >= 4]) > -1.0)                            # yet is stable for n >= 4
     assert factor(8.0, 2) < factor(8.0, 5) <= -1.0 + 1e-12                    # 8 /s: unstable for n <= 5
+
+
+def test_summary_does_not_give_away_exercise_2_ring_formula():
+    """The Summary must not state Exercise 2's closed form for the ring radius."""
+    import json
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    for folder in ("solutions", "notebooks"):
+        nb = json.loads((root / folder / "10_flocking.ipynb").read_text())
+        summary = next("".join(c["source"]) for c in nb["cells"]
+                       if c["cell_type"] == "markdown"
+                       and "".join(c["source"]).startswith("## Summary"))
+        squashed = summary.replace(" ", "")
+        assert "(n-1)^2" not in squashed and "2nw_c" not in squashed, folder
+        assert "Exercise 2" in summary, folder
