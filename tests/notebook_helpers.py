@@ -20,6 +20,12 @@ def code_cells(nb) -> list:
     return [c for c in nb.cells if c.cell_type == "code" and c.source.strip()]
 
 
+def markdown(name: str, folder: str = "solutions") -> str:
+    """The markdown cells of notebook ``name`` (a file name in ``folder``), joined by newlines."""
+    nb = read(ROOT / folder / name)
+    return "\n".join(c.source for c in nb.cells if c.cell_type == "markdown")
+
+
 def check_module(nb) -> str | None:
     for cell in code_cells(nb):
         m = CHECK_IMPORT.search(cell.source)

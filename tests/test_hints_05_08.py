@@ -7,9 +7,8 @@ print the worst).
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
+from notebook_helpers import markdown as _markdown
 from planted import define
 from test_nb07_springs import NETWORK_RIGHT
 
@@ -51,13 +50,6 @@ def test_network_forces_shows_the_worst_particle():
     assert "e.g. row" not in text
     assert "6 of 18 values differ; the worst, row 5:" in text, text
     assert "7 particles, 24 springs in 2D: 4 of 14 values differ; the worst, row 6:" in text, text
-
-
-def _markdown(notebook: str) -> str:
-    import nbformat
-
-    path = Path(__file__).resolve().parents[1] / "solutions" / notebook
-    return "\n".join(c.source for c in nbformat.read(path, 4).cells if c.cell_type == "markdown")
 
 
 def test_terminal_speed_prompt_says_a_root_finder_is_accepted_and_it_is():

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from notebook_helpers import markdown as _markdown
 from planted import Plant, define, judge
 from test_nb06_forces import NBODY_RIGHT
 
@@ -163,13 +164,6 @@ def test_a_loop_over_particles_in_the_bounce_is_caught():
                                    "incorrect", "loops over the particles"))
     assert any("300 particles" in case and "no Python loop" in case
                for case in verdict["failed_cases"])
-
-
-def _markdown(notebook: str) -> str:
-    import nbformat
-
-    path = Path(__file__).resolve().parents[1] / "solutions" / notebook
-    return "\n".join(c.source for c in nbformat.read(path, 4).cells if c.cell_type == "markdown")
 
 
 def test_notebook_06_prompts_say_what_the_checks_count():

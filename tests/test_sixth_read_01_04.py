@@ -10,17 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from notebook_helpers import ROOT
+from notebook_helpers import markdown as _markdown
 
 import course_lib as cl
 from course_lib.check import nb04 as check04
-
-
-def _markdown(name: str) -> str:
-    import nbformat
-
-    nb = nbformat.read(ROOT / "solutions" / name, as_version=4)
-    return "\n".join(c.source for c in nb.cells if c.cell_type == "markdown")
 
 
 def shear(t, X):
