@@ -385,7 +385,14 @@ def _one_uniform(mean, variance, radius, rng):
     return np.column_stack((r * np.cos(phi), r * np.sin(phi)))
 
 
-def ROUND(m, v, rng):
+def COUNT(m, v, rng):
+    """Reeves' count rounded at random, floor(y + u): the right count, under the planted
+    answers whose mistake lies elsewhere."""
+    return int(np.floor(m + v * rng.uniform(-1, 1) + rng.random()))
+
+
+def NEAREST(m, v, rng):
+    """Reeves' count rounded to the nearest: unbiased only when 2 × variance is whole."""
     return round(m + v * rng.uniform(-1, 1))
 
 
@@ -395,23 +402,23 @@ def _polar(r, phi):
 
 def _sorted_per_frame(mean, variance, radius, rng):
     """Right marginals, but radius and angle each sorted within the frame."""
-    k = ROUND(mean, variance, rng)
+    k = COUNT(mean, variance, rng)
     return _polar(radius * np.sort(np.sqrt(rng.random(k))), np.sort(rng.uniform(0, 2 * np.pi, k)))
 
 
 def _one_radius_per_frame(mean, variance, radius, rng):
-    k = ROUND(mean, variance, rng)
+    k = COUNT(mean, variance, rng)
     return _polar(np.full(k, radius * np.sqrt(rng.random())), rng.uniform(0, 2 * np.pi, k))
 
 
 def _jittered_angles(mean, variance, radius, rng):
     """Stratified angles: particle i in the i-th slice of the turn (not independent)."""
-    k = ROUND(mean, variance, rng)
+    k = COUNT(mean, variance, rng)
     return _polar(radius * np.sqrt(rng.random(k)), 2 * np.pi * (np.arange(k) + rng.random(k)) / max(k, 1))
 
 
 def _rejection(mean, variance, radius, rng):
-    k, out = ROUND(mean, variance, rng), np.empty((0, 2))
+    k, out = COUNT(mean, variance, rng), np.empty((0, 2))
     while len(out) < k:
         p = rng.uniform(-radius, radius, (2 * k + 2, 2))
         out = np.vstack((out, p[np.hypot(*p.T) <= radius]))
@@ -419,13 +426,13 @@ def _rejection(mean, variance, radius, rng):
 
 
 def _root_of_ru(mean, variance, radius, rng):
-    k = ROUND(mean, variance, rng)
+    k = COUNT(mean, variance, rng)
     return _polar(np.sqrt(radius * rng.random(k)), rng.uniform(0, 2 * np.pi, k))
 
 
 EMIT_PLANTED = {
     "right": (_emit_right, "correct", None),
-    "plain rounding": (_emit_variant(ROUND), "correct", None),
+    "plain rounding": (_emit_variant(NEAREST), "incorrect", "rounding to the nearest whole number"),
     "delegates to the library": (notebook_answer(
         "def emit(mean, variance, radius, rng):\n"
         "    k = particles.reeves_count(mean, variance, rng)\n"
@@ -441,14 +448,14 @@ EMIT_PLANTED = {
                                   "is a new random number drawn every frame"),
     "a normal draw": (_emit_variant(lambda m, v, rng: max(0, round(m + v * rng.normal()))),
                       "incorrect", "is your random number bounded"),
-    "r = R u": (_emit_variant(ROUND, radius_rule=lambda u: u), "incorrect",
+    "r = R u": (_emit_variant(COUNT, radius_rule=lambda u: u), "incorrect",
                 "how does the area within radius r grow"),
-    "a ring": (_emit_variant(ROUND, radius_rule=np.ones_like), "incorrect", "that is a ring"),
-    "half a turn": (_emit_variant(ROUND, full_turn=False), "incorrect", "does not cover a full turn"),
+    "a ring": (_emit_variant(COUNT, radius_rule=np.ones_like), "incorrect", "that is a ring"),
+    "half a turn": (_emit_variant(COUNT, full_turn=False), "incorrect", "does not cover a full turn"),
     "a square": (lambda m, v, radius, rng: rng.uniform(-radius, radius, (round(m), 2)),
                  "incorrect", "fill a square, not a disc"),
     "a Gaussian blob (not a square)": (
-        lambda m, v, radius, rng: rng.normal(0, radius / 2, (ROUND(m, v, rng), 2)),
+        lambda m, v, radius, rng: rng.normal(0, radius / 2, (COUNT(m, v, rng), 2)),
         "incorrect", "some particles land outside the disc"),
     "radius and angle sorted within each frame": (_sorted_per_frame, "incorrect",
                                                   "the particles of one frame depend on each other"),

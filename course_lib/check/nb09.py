@@ -3,7 +3,9 @@ expected population.
 
 The emit check is statistical: it draws 4000 frames from each of two emitters (different
 means, variances and radii, so that an answer that ignores its arguments fails) and tests
-the counts (range, mean, spread) and the positions: on the disc, uniform by area (the
+the counts (range, mean, spread), the mean count of a third emitter whose 2 × variance is
+not whole (where only rounding at random keeps it exact; :mod:`._nb09_counts`) and the
+positions: on the disc, uniform by area (the
 fractions within R/2 and beyond 0.9 R), all directions, radius and angle *independent* of
 each other, and the particles of one frame independent of each other. A hint names a wrong
 count rule or radius law only when both emitters show it.
@@ -22,6 +24,7 @@ import numpy as np
 from .. import particles
 from . import Checker, Hint, exercise
 from . import _nb09_cases as _cases
+from . import _nb09_counts as _counts
 from ._answers import call_analysis, close
 
 _SEED = 909
@@ -36,44 +39,6 @@ _FRAMES = 4000
 def _which(failed: list) -> str:
     """``" (with mean 3.4, variance 2, R = 0.5)"`` for the emitters in ``failed``."""
     return "; ".join(f"with mean {m:g}, variance {v:g}, R = {r:g}: {what}" for (m, v, r), what in failed)
-
-
-def _count_variance_hint(draws) -> Hint:
-    """Name the spread a wrong count rule has, if every emitter shows the same one: counts
-    that vary as variance/2 × U(-1, 1) (a halved spread), √variance × U(-1, 1) (Reeves'
-    variance read as the statistical variance) or not at all. Rounding to a whole count adds
-    up to 1/6 to the variance of each."""
-    if all(counts.std() < 0.3 * v / np.sqrt(3) for (_, v, _), counts, _ in draws):
-        return ("the count hardly varies: is a new random number drawn every frame?",
-                "draw a new count every frame: mean + variance × rng.uniform(-1, 1)")
-    rules = {
-        ("rng.random() spans [0, 1), half of U(-1, 1): the spread is halved",
-         "mean + variance × U(-1, 1) with U = rng.uniform(-1, 1): a spread of the whole width"):
-            lambda v: v * v / 12,
-        ("Reeves' variance is the half-width of the spread, not the statistical variance: do not "
-         "take its square root", "mean + variance × U(-1, 1): the count's standard deviation is "
-         "then variance/√3"): lambda v: v / 3,
-    }
-    for hint, spread in rules.items():
-        if all(0.8 * spread(v) <= counts.var() <= 1.2 * (spread(v) + 1 / 6)
-               for (_, v, _), counts, _ in draws):
-            return hint
-    if all(_cases.flat(counts) for _, counts, _ in draws):
-        return _cases.WIDTH_HINT
-    if all(counts.std() > v / np.sqrt(3) * 1.1 for (_, v, _), counts, _ in draws):
-        return "the spread is uniform, variance × U(-1, 1), with standard deviation variance/√3"
-    return None
-
-
-def _range_hint(outside) -> Hint:
-    """The hint for counts outside [mean - variance, mean + variance]: a uniform draw of the
-    wrong width, or an unbounded (normal) draw."""
-    if outside and all(_cases.flat(c) for c in outside):
-        return _cases.WIDTH_HINT
-    return ("Reeves' count is never outside [mean - variance, mean + variance]: is your "
-            "random number bounded?",
-            "Reeves' count is mean + variance × U(-1, 1) with U uniform (rng.uniform(-1, 1)), "
-            "not a normal draw: it never leaves [mean - variance, mean + variance]")
 
 
 def _radius_hint(draws) -> Hint:
@@ -138,24 +103,27 @@ def emit(ck: Checker, func) -> None:
                if c.min() < np.floor(e[0] - e[1]) or c.max() > np.ceil(e[0] + e[1])]
     ck.expect(not outside, f"every count lies in [mean - variance, mean + variance] ({names})",
               _which([(e, f"counts ranged over [{c.min()}, {c.max()}]") for e, c in outside]),
-              hint=_range_hint([c for _, c in outside]))
+              hint=_counts.range_hint([c for _, c in outside]))
     se = [np.sqrt((v**2 / 3 + 0.25) / _FRAMES) for _, v, _ in EMITTERS]
     bad = [(e, f"it was {c.mean():.3f}") for (e, c, _), s in zip(draws, se, strict=True)
            if abs(c.mean() - e[0]) >= 4 * s]
     hint = None
     if all(abs(c.mean() - (m + v / 2)) < 4 * s for ((m, v, _), c, _), s in zip(draws, se, strict=True)):
         hint = "rng.random() is uniform on [0, 1); the spread must be symmetric: U(-1, 1)"
-    elif all(abs(c.mean() - (m - 0.5)) < 4 * s for ((m, _, _), c, _), s in zip(draws, se, strict=True)):
-        hint = ("int() truncates and loses half a particle per frame on average",
-                "int() truncates and loses half a particle per frame on average: round "
-                "instead (round(y), or at random with floor(y + rng.random()))")
+    elif rule := _counts.rounding_rule([c.mean() for _, c, _ in draws], EMITTERS, se):
+        hint = _counts.ROUNDING_HINTS[rule]
     ck.expect(not bad, f"the mean count over {_FRAMES} frames is the mean asked for ({names})",
               _which(bad), hint=hint)
+    ok, detail, rule = _counts.rounding_case(
+        _cases.counts_and_points(func, *_counts.ROUNDING_EMITTER, _FRAMES, _SEED)[0])
+    whole = _counts.ROUNDING_HINTS.get(rule, None if bad else _counts.ROUNDING_GENERIC)
+    ck.expect(ok, "the mean count stays exact when 2 × variance is not whole ({:g} ± {:g})".format(
+              *_counts.ROUNDING_EMITTER), detail, hint=None if bad and whole == hint else whole)
     bad = [(e, f"its standard deviation was {c.std():.2f}; mean + variance × U(-1, 1), rounded, "
                f"gives {np.sqrt(e[1]**2 / 3 + 1 / 8):.2f}") for e, c, _ in draws
            if abs(c.std() / np.sqrt(e[1] ** 2 / 3 + 1 / 8) - 1) >= 0.08]
     ck.expect(not bad, "the count varies from frame to frame as Reeves' rule says", _which(bad),
-              hint=_count_variance_hint(draws))
+              hint=_counts.count_variance_hint(draws))
     far = [(e, f"the farthest was at {np.hypot(*p.T).max():.3f}", p) for e, _, p in draws
            if np.hypot(*p.T).max() > e[2] * (1 + 1e-12)]
     radii = " and ".join(f"{e[2]:g}" for e in EMITTERS)
