@@ -78,15 +78,31 @@ def frame_mistakes(particles, V, dt, newborn) -> dict:
     life = particles["lifetime"]
     front = np.arange(n) >= int(np.sum(aged >= life))  # delete as many rows, from the front
     return {
-        ("a particle dies when its age reaches its lifetime: keep age < lifetime, "
-         "so one whose age equals its lifetime is deleted"): variant(aged, aged <= life),
-        ("no particle was deleted: after ageing, delete every particle whose new age "
-         "has reached its lifetime (age >= lifetime)"): variant(aged, np.ones(n, dtype=bool)),
-        "age every particle by dt this frame (age + dt), then compare with the lifetime":
+        escalate("a particle dies when its age reaches its lifetime: keep age < lifetime, "
+                 "so one whose age equals its lifetime is deleted",
+                 "in frame 1 the second particle is 0.5 s old with a lifetime of 1 s: after "
+                 "dt = 0.5 s its age is 1.0 s, equal to its lifetime, so it is deleted; your "
+                 "<= kept it. Write alive = age < lifetime"): variant(aged, aged <= life),
+        escalate("no particle was deleted: after ageing, delete every particle whose new age "
+                 "has reached its lifetime (age >= lifetime)",
+                 "in frame 1 the third particle is 1.5 + 0.5 = 2.0 s old with a lifetime of "
+                 "1.75 s and must go: alive = age < lifetime, then particles[key][alive] for "
+                 "every key"): variant(aged, np.ones(n, dtype=bool)),
+        escalate("age every particle by dt this frame (age + dt), then compare with the "
+                 "lifetime",
+                 "in frame 1 the second particle is 0.5 s old with a lifetime of 1 s: after "
+                 "the frame it is 1.0 s old and dies, but its old age 0.5 s keeps it alive. "
+                 "Compute age = particles['age'] + dt first, then the mask from it"):
             variant(particles["age"], particles["age"] < life),
-        "move every surviving particle by dt * V": variant(aged, aged < life, move=False),
-        ("the expired particles are not always the first rows (lifetimes differ): select the "
-         "survivors with a boolean mask, age < lifetime, row by row"): variant(aged, front),
+        escalate("move every surviving particle by dt * V",
+                 "in frame 1 the first particle starts at (0, 0) with V = (1, 0): after "
+                 "dt = 0.5 s it is at (0.5, 0). Write X = particles['X'] + dt * V before "
+                 "filtering"): variant(aged, aged < life, move=False),
+        escalate("the expired particles are not always the first rows (lifetimes differ): "
+                 "select the survivors with a boolean mask, age < lifetime, row by row",
+                 "in frame 2 the 2nd, 4th and 7th particles expire, not the first three: "
+                 "X[alive] with alive = age < lifetime keeps rows 1, 3, 5 and 6 (counting "
+                 "from 1), where X[3:] keeps rows 4 to 7"): variant(aged, front),
     }
 
 
@@ -128,6 +144,10 @@ def cohesion_reference(X, radius: float) -> np.ndarray:
     return np.einsum("ij,ijk->ik", near, D) / np.maximum(count, 1)
 
 
+#: Where the fuller cohesion hints work a number: a boid of the first flock by hand.
+_AT_55 = "in the first flock (radius 1.2 m) the boid at (5, 5):"
+
+
 def cohesion_mistakes(X, radius: float, expected) -> dict:
     """What the usual mistakes make of the cohesion rule on the flock ``X``, keyed by hint."""
     D = X[None, :, :] - X[:, None, :]
@@ -137,30 +157,61 @@ def cohesion_mistakes(X, radius: float, expected) -> dict:
     count = others.sum(axis=1, keepdims=True)
     with np.errstate(invalid="ignore", divide="ignore"):
         return {
-            "a boid is not its own neighbour: leave it out of the mean (it pulls the mean "
-            "towards itself)": np.einsum("ij,ijk->ik", within, D) / within.sum(1, keepdims=True),
-            "return the vector FROM the boid TO the local centre (centre - X_i), not the "
-            "centre itself": np.where(count > 0, expected + X, 0.0),
-            "your pull points away from the neighbours: return centre - X_i, not X_i - centre":
+            escalate("a boid is not its own neighbour: leave it out of the mean (it pulls the "
+                     "mean towards itself)",
+                     f"{_AT_55} its only neighbour is (5.5, 5), so its pull is (0.5, 0); counting "
+                     "itself averages in its own zero offset and gives (0.25, 0). Take the "
+                     "diagonal out of the mask: np.fill_diagonal(near, False)"):
+                np.einsum("ij,ijk->ik", within, D) / within.sum(1, keepdims=True),
+            escalate("return the vector FROM the boid TO the local centre (centre - X_i), not "
+                     "the centre itself",
+                     f"{_AT_55} the local centre is (5.5, 5) and the pull (5.5, 5) - (5, 5) = "
+                     "(0.5, 0); you returned (5.5, 5): subtract the boid's own position"):
+                np.where(count > 0, expected + X, 0.0),
+            escalate("your pull points away from the neighbours: return centre - X_i, not "
+                     "X_i - centre",
+                     f"{_AT_55} the pull is (0.5, 0), towards (5.5, 5); yours is (-0.5, 0). The "
+                     "offsets are D[i, j] = X_j - X_i, i.e. X[None, :, :] - X[:, None, :]"):
                 -expected,
-            ("a boid exactly `radius` away is not a neighbour: the rule is |X_j - X_i| < "
-             "radius, strictly"): cohesion_within(X, D, dist2 <= radius**2),
+            escalate("a boid exactly `radius` away is not a neighbour: the rule is "
+                     "|X_j - X_i| < radius, strictly",
+                     "in the flock with radius 1.5 m, (1.5, 0) is exactly 1.5 m from the boid "
+                     "at (0, 0), so that boid's only neighbour is (0, 1) and its pull (0, 1); "
+                     "with <= it gets (0.75, 0.5). Write dist2 < radius**2"):
+                cohesion_within(X, D, dist2 <= radius**2),
             DIVIDE_BY_N_HINT:
                 np.einsum("ij,ijk->ik", others, D) / len(X),
-            ("the centre is the mean of the NEIGHBOURS within the radius, not of the whole "
-             "flock"): X.mean(axis=0) - X,
+            escalate("the centre is the mean of the NEIGHBOURS within the radius, not of the "
+                     "whole flock",
+                     f"{_AT_55} only (5.5, 5) is within 1.2 m, so its pull is (0.5, 0); the "
+                     "mean of all five boids, (2.3, 2.2), gives (-2.7, -2.8). Average the "
+                     "offsets with the neighbour mask"): X.mean(axis=0) - X,
         }
 
 
 #: Exercise 1 (and 2): an answer right on a cloud (N, 2) but wrong on a grid (n, n, 2).
-GRID_HINT = ("right for a cloud of shape (N, 2), wrong on a grid of shape (n, n, 2): there "
-              "X[:, 1] is a row of points, not the y components (and axis=1 is not the last "
-              "axis). Index the last axis, X[..., 0] and X[..., 1], which works for every shape")
+GRID_HINT = escalate(
+    "right for a cloud of shape (N, 2), wrong on a grid of shape (n, n, 2): there X[:, 1] is a "
+    "row of points, not the y components (and axis=1 is not the last axis). Index the last "
+    "axis, X[..., 0] and X[..., 1], which works for every shape",
+    "on the 2 x 2 grid X[:, 1] is the second point of each grid row, (x, y) pairs, while "
+    "X[..., 1] holds the four y's: write x, y = X[..., 0], X[..., 1] and join the result with "
+    "np.stack((vx, vy), axis=-1)")
 
 
 #: Exercise 4: an answer whose survivors are right but whose newborns are not as born.
-NEWBORN_HINT = ("the newborns were moved or aged: they appear exactly as born, appended "
-                 "after the survivors have been moved, aged and filtered")
+NEWBORN_HINT = escalate(
+    "the newborns were moved or aged: they appear exactly as born, appended after the "
+    "survivors have been moved, aged and filtered",
+    "in frame 1 the newborns are born at (5, 5) and (6, 6) with age 0, and the last two rows of "
+    "X and age must be exactly those: np.concatenate([X[alive], newborn['X']]) after moving, "
+    "not before")
+
+#: Exercise 4: survivors wrong in no way the check knows: the order of the three stages.
+FRAME_ORDER_HINT = escalate(
+    "update, then delete, then create: survivors first, newborns appended at the end",
+    "move and age every particle (X + dt * V, age + dt), then keep alive = age < lifetime, "
+    "then append the newborns with np.concatenate([...[alive], newborn[key]])")
 
 
 def newborns_changed(got, expected, born) -> bool:
