@@ -95,11 +95,40 @@ class Checker:
                     break
         if a.shape != e.shape:
             return self.expect(False, what, f"expected shape {e.shape}, got shape {a.shape}", hint)
-        return self.expect(ok, what, f"expected {_fmt(e)}, got {_fmt(a)}", hint)
+        shown_e, shown_a = apart(e, a)
+        return self.expect(ok, what, f"expected {shown_e}, got {shown_a}", hint)
 
 
-def _fmt(x: np.ndarray) -> str:
-    return np.array2string(np.asarray(x), precision=6, suppress_small=True, separator=", ")
+def apart(expected, got, digits: int = 6) -> tuple[str, str]:
+    """``expected`` and ``got`` as text with ``digits`` digits, or with more (up to 17) when
+    they differ but would print alike, so that no check says "expected 4.2429, got 4.2429".
+
+    A Python or NumPy scalar prints with ``digits`` significant digits (``:.6g``), an
+    ndarray (0-d too) with ``digits`` decimals (NumPy's layout, small entries suppressed).
+
+    >>> apart(4.242900001, 4.2429)
+    ('4.242900001', '4.2429')
+    >>> apart([1.0, 2.0], [1.0, 2.5])
+    ('[1., 2.]', '[1. , 2.5]')
+    """
+    def text(x, p: int) -> str:
+        if isinstance(x, (int, float, complex, np.number)) and not isinstance(x, bool):
+            return f"{x:.{p}g}"
+        x = np.asarray(x)
+        if np.issubdtype(x.dtype, np.inexact):
+            x = x + 0.0     # -0.0 prints as "-0."; + 0.0 makes it 0.0
+        return np.array2string(x, precision=p, suppress_small=True, separator=", ")
+
+    p = digits
+    shown = text(expected, p), text(got, p)
+    try:
+        same = bool(np.array_equal(np.asarray(expected), np.asarray(got), equal_nan=True))
+    except TypeError:   # not numbers: as NumPy prints them
+        same = True
+    while shown[0] == shown[1] and not same and p < 17:
+        p += 1
+        shown = text(expected, p), text(got, p)
+    return shown
 
 
 def exercise(func: Callable | None = None, *, points: int = 1, allow: tuple = (),

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..integrators import integrate
 from ..stability import amplification_factor, max_stable_dt
-from . import Checker, exercise
+from . import Checker, apart, exercise
 from ._answers import as_array, call, call_analysis, one_number, rtol_for
 from ._nb03_cases import (
     HIDDEN_METHODS,
@@ -101,7 +101,7 @@ def stability_function(ck: Checker, student) -> None:
                 if np.allclose(answer, wrong, rtol=rtol, atol=rtol):
                     hint = mistake
                     break
-            ck.expect(False, what, f"expected {np.round(expected, 6)}, got {np.round(answer, 6)}",
+            ck.expect(False, what, "expected {}, got {}".format(*apart(expected, answer)),
                       hint)
 
 

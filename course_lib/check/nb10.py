@@ -27,7 +27,7 @@ import numpy as np
 
 from .. import boids, neighbors
 from ..lessons import nb10_flocking as _lesson
-from . import Checker, exercise
+from . import Checker, apart, exercise
 from . import _nb10_cases as _cases
 from ._answers import as_scalar, call_analysis, one_number, rtol_for
 from ._nb10_cases import GROWTH_LIMIT, SHAPE_LIMIT, roundoff_bound
@@ -168,7 +168,7 @@ def ring_radius(ck: Checker, func) -> None:
             continue
         if hint is None and np.isclose(value, expected, rtol=1e-6):
             hint = "close, but not to round-off: if you solve for r numerically, converge to 1e-10"
-        ck.expect(False, what, f"expected {expected:.6g} m, got {value:.6g} m",
+        ck.expect(False, what, "expected {} m, got {} m".format(*apart(float(expected), value)),
                   hint=hint or ("start from a pair: w_s/d = w_c d, with d = 2r; then add neighbours "
                                 "one at a time and keep only what points along the radius",
                                 "by symmetry only radial parts survive: each neighbour pushes "

@@ -20,7 +20,7 @@ import scipy.sparse.linalg
 
 from .. import springs
 from ..baraff_witkin import BaraffWitkin
-from . import Checker, Hint, exercise
+from . import Checker, Hint, apart, exercise
 from . import _nb11_cases as _cases
 
 _SEED = 1111
@@ -55,13 +55,14 @@ def _judge(ck: Checker, got, expected, what: str, *, rtol: float, atol: float,
             hint = mistake
             break
     if e.size == 1:
-        return ck.expect(False, what, f"expected {float(e):.6g}, got {float(a):.6g}", hint)
+        return ck.expect(False, what, "expected {}, got {}".format(*apart(float(e), float(a))), hint)
     excess = np.abs(a - e) - (atol + rtol * np.abs(e))
     at = np.unravel_index(int(np.argmax(excess)), e.shape)
     where = ", ".join(str(int(k)) for k in at)
+    shown_e, shown_a = apart(float(e[at]), float(a[at]))     # more digits when 6 print alike
     return ck.expect(False, what, f"{int(np.sum(excess > 0))} of {e.size} entries differ; the largest "
                      f"difference, {abs(a[at] - e[at]):.2g}{unit}, is at [{where}]: expected "
-                     f"{e[at]:.6g}, got {a[at]:.6g}", hint)
+                     f"{shown_e}, got {shown_a}", hint)
 
 
 def _jacobian_mistakes(d, k, rest, expected) -> dict:
