@@ -23,7 +23,8 @@ from ..baraff_witkin import BaraffWitkin
 
 #: The hanging cloth of the notebook (see :func:`course_lib.cloth.sheet`).
 CLOTH = {"n": 12, "size": 0.55, "total_mass": 0.1, "k_struct": 300.0}
-#: The drape: a 20 × 20 cloth of 0.9 m and 0.15 kg, 0.4 m above a 0.25 m sphere on the ground.
+#: The drape: a 20 × 20 cloth of 0.9 m and 0.15 kg at y = 0.4 m, 0.15 m above the top of a
+#: 0.25 m sphere centred at the origin and resting on the ground.
 SPHERE_RADIUS, DRAPE_HEIGHT = 0.25, 0.4
 
 
@@ -185,8 +186,9 @@ def large_steps(factors=(1, 10, 100), damping_ratio: float = 0.1, frames: int = 
 
 def drape(frames: int = 40, fps: float = 30.0, substeps: int = 2, n: int = 20,
           friction: float = 0.5):
-    """A 20 × 20 cloth (0.9 m, 0.15 kg, lightly damped) dropped from 0.4 m onto a sphere of
-    radius 0.25 m resting on the ground (``y = −0.25``), by Baraff–Witkin steps of 1/60 s.
+    """A 20 × 20 cloth (0.9 m, 0.15 kg, lightly damped) dropped flat from ``y = 0.4`` m, 0.15 m
+    above the top of a sphere of radius 0.25 m centred at the origin and resting on the
+    ground (``y = −0.25``), by Baraff–Witkin steps of 1/60 s.
     After every step particles inside the sphere (grown by 3 % for the cloth's thickness)
     or below the ground are put back on the surface and lose their inward velocity, with
     Coulomb friction. Returns the cloth and its :class:`~course_lib.cloth.ClothRun`."""
