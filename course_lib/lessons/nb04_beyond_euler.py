@@ -14,7 +14,9 @@ at the scale of the motion it is asked to draw.
 
 - :func:`follower` returns ``f``, its (constant) Jacobian and the exact solution;
 - :func:`cost_study` runs each method with a range of step counts and records the error at
-  the end, the right-hand-side evaluations (``Trajectory.nfev``) and the wall-clock time;
+  the end and the right-hand-side evaluations (``Trajectory.nfev``);
+- :func:`cpu_per_step` times runs in CPU time (``time.process_time``, the best of a few runs,
+  so that other programs on a busy machine do not count), per step;
 - :func:`fewest_steps` finds, by bisection on the step count, the smallest ``n`` whose run
   ends within a target error (the true minimum, not the nearest point of a grid);
 - :func:`follower_experiment` is the pure half of the follower explorer (the view is in
@@ -67,13 +69,12 @@ def follower(kappa: float = KAPPA):
 @dataclass(frozen=True)
 class CostRow:
     """One run of :func:`cost_study`: steps, f-evaluations, error at the end (m; ``inf``
-    if the run blew up), wall-clock time (s)."""
+    if the run blew up)."""
 
     method: str
     steps: int
     nfev: int
     error: float
-    seconds: float
 
 
 def cost_study(methods, counts, T: float = 2 * np.pi, X0=(0.0, 0.0), kappa: float = KAPPA,
@@ -84,7 +85,8 @@ def cost_study(methods, counts, T: float = 2 * np.pi, X0=(0.0, 0.0), kappa: floa
     linear problem; course_lib checks it with one more evaluation). A run counts as blown
     up when ``|X|`` passes ``blowup_bound`` (m), far above the unit circle it should follow.
     Runs are deterministic, so a run asked for again (by :func:`fewest_steps`, or for a
-    second target) is taken from a cache of the rows already made, wall-clock time included.
+    second target) is taken from a cache of the rows already made. The study records no
+    time: :func:`cpu_per_step` measures that.
     """
     key = (float(T), tuple(float(v) for v in np.ravel(X0)), float(kappa), float(blowup_bound))
     return [_run(method, int(n), key) for method in methods for n in counts]
@@ -100,12 +102,39 @@ def _run(method: str, n: int, key: tuple) -> CostRow:
         f, jac, exact = follower(kappa)
         X0 = np.array(X0)
         kw = {"jac": jac} if method in IMPLICIT_METHODS else {}
-        start = time.perf_counter()
         run = integrate(f, X0, (0.0, T), T / n, method, blowup_bound=blowup_bound, **kw)
-        seconds = time.perf_counter() - start
         error = float(np.linalg.norm(run.y[-1] - exact(T, X0))) if run.stable else np.inf
-        _RUNS[method, n, key] = CostRow(method, n, run.nfev, error, seconds)
+        _RUNS[method, n, key] = CostRow(method, n, run.nfev, error)
     return _RUNS[method, n, key]
+
+
+def cpu_per_step(steps: dict[str, int], repeats: int = 3, T: float = 2 * np.pi,
+                 X0=(0.0, 0.0), kappa: float = KAPPA,
+                 blowup_bound: float = 1e3) -> dict[str, float]:
+    """CPU time (s) per step of each method over ``T`` with ``steps[method]`` steps.
+
+    Each run is timed with ``time.process_time`` (the CPU time of this process, which other
+    programs on the machine do not inflate), ``repeats`` times; the best run counts (the
+    others include first-call and cache effects). The ratio of two methods' figures is the
+    cost of one step of one in steps of the other on this machine; the figures themselves
+    change from machine to machine and from run to run.
+    """
+    if int(repeats) != repeats or repeats < 1:
+        raise ValueError(f"repeats must be a whole number >= 1, got {repeats!r}")
+    f, jac, _ = follower(kappa)
+    X0 = np.array(X0, dtype=float)
+    out = {}
+    for method, n in steps.items():
+        if int(n) != n or n < 1:
+            raise ValueError(f"steps[{method!r}] must be a whole number >= 1, got {n!r}")
+        kw = {"jac": jac} if method in IMPLICIT_METHODS else {}
+        best = np.inf
+        for _ in range(int(repeats)):
+            start = time.process_time()
+            integrate(f, X0, (0.0, T), T / n, method, blowup_bound=blowup_bound, **kw)
+            best = min(best, time.process_time() - start)
+        out[method] = best / n
+    return out
 
 
 def cheapest(rows, method: str, target: float) -> CostRow | None:
