@@ -39,6 +39,9 @@ lab: $(STAMP)
 #   cells are stored unrun so strict nbval only runs them, as --nbval-lax would), second
 #   rounding (the tests marked roundoff and strict nbval of the solutions again, with
 #   NumPy's SIMD kernels one level down: tests/roundings.py), browser.
+# Figures are rasterized once, in the strict pass of the solutions (and in the browser):
+# the student versions and the second rounding run every cell but draw each PNG as a blank
+# pixel (--nbval-skip-raster, tests/skip_raster_startup.py), a third of their running time.
 # A failing stage does not stop the later ones; `make test` fails if any failed.
 # pytest exits 5 when it collects nothing; tools/stage.py counts that as a pass.
 # One BLAS thread per process: two pytest-xdist workers on two cores already fill the
@@ -81,7 +84,7 @@ test-unit: $(STAMP)
 test-nbval: $(STAMP)
 	@$(STAGE) run notebooks -- $(PYTEST) $(XDIST) --nbval $(NBVAL) --nbval-rerun=solutions \
 		--nbval-rerun-orders=$(RERUN_ORDERS) --nbval-rerun-max-seconds=$(RERUN_MAX_SECONDS) \
-		solutions notebooks
+		--nbval-skip-raster=notebooks solutions notebooks
 
 test-solutions: $(STAMP)
 	@$(STAGE) run solutions -- $(PYTEST) $(XDIST) --nbval $(NBVAL) solutions
@@ -94,7 +97,7 @@ test-rounding: $(STAMP)
 	@$(BIN)/python tests/roundings.py
 	@$(STAGE) run second-rounding -- $(BIN)/python tests/roundings.py run \
 		env $(CI_HYPOTHESIS) $(PYTEST) $(XDIST) -m roundoff --nbval $(NBVAL) \
-		$(ROUNDOFF_TESTS) solutions
+		--nbval-skip-raster=solutions $(ROUNDOFF_TESTS) solutions
 
 # Property tests with Hypothesis's random search and FUZZ_FACTOR (10) times the examples;
 # failures are kept in .hypothesis/ and replayed first next time.

@@ -32,5 +32,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent / "tests"))
 from nbval_rerun import (  # noqa: E402, F401  (hooks of the nbval plugin)
     pytest_addoption,
     pytest_collection_modifyitems,
+    pytest_configure,
     pytest_runtest_logreport,
+    pytest_runtest_setup,
 )

@@ -16,7 +16,9 @@ repeats them under the second rounding.
 
 from __future__ import annotations
 
+import os
 import random
+import shutil
 from pathlib import Path
 from queue import Empty
 
@@ -33,6 +35,9 @@ def pytest_addoption(parser):
                           "cells bottom to top and in a seeded random order")
     parser.addoption("--nbval-rerun-orders", default="reverse,random", metavar="ORDERS",
                      help="which re-runs, comma-separated: reverse, random (default both)")
+    parser.addoption("--nbval-skip-raster", action="append", default=[], metavar="DIR",
+                     help="run the notebooks under DIR without rasterizing figures (every "
+                          "PNG a blank pixel: tests/skip_raster_startup.py)")
     parser.addoption("--nbval-rerun-max-seconds", type=float, default=float("inf"),
                      metavar="S", help="leave out of the re-runs the cells whose Run All "
                      "took longer than S seconds (the long simulations; default: none)")
@@ -123,6 +128,27 @@ def pytest_runtest_logreport(report):
         _failed_notebooks.add(notebook)
     if report.when == "call" and cell.startswith("Cell "):
         _durations.setdefault(notebook, {})[int(cell.split()[1])] = report.duration
+
+
+def pytest_configure(config):
+    """Install the skip-raster startup file in this process's IPYTHONDIR (a temporary
+    folder made by the root conftest); it acts only in kernels started with
+    ``COURSE_KIT_SKIP_RASTER=1``."""
+    if config.getoption("nbval_skip_raster", None):
+        startup = Path(os.environ["IPYTHONDIR"]) / "profile_default" / "startup"
+        startup.mkdir(parents=True, exist_ok=True)
+        shutil.copy(Path(__file__).with_name("skip_raster_startup.py"), startup / "00-skip-raster.py")
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_setup(item):
+    """Before a notebook's first cell starts its kernel, say whether it rasterizes: the
+    kernel inherits this process's environment."""
+    dirs = [Path(d).resolve() for d in item.config.getoption("nbval_skip_raster", None) or []]
+    if dirs and type(item).__name__ in ("IPyNbCell", "RerunItem"):
+        path = item.path.resolve()
+        skip = any(d == path.parent or d in path.parents for d in dirs)
+        os.environ["COURSE_KIT_SKIP_RASTER"] = "1" if skip else "0"
 
 
 @pytest.hookimpl(tryfirst=True)

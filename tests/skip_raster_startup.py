@@ -1,0 +1,36 @@
+"""IPython startup file for test passes that run a notebook without drawing its pixels.
+
+Copied into the test session's IPYTHONDIR by ``tests/nbval_rerun.py``; it acts only in
+kernels started with ``COURSE_KIT_SKIP_RASTER=1`` (``--nbval-skip-raster=DIR``). Every PNG
+that matplotlib would rasterize (inline figures, player and animation frames) becomes a
+1 x 1 white PNG; the notebook's code, its numbers and every text output run as usual, and
+nbval never compares PNG data. Rasterizing is a third of a notebook's running time, and the
+first strict pass of ``make test`` (and the browser stage) still draws every figure.
+"""
+
+import os
+
+if os.environ.get("COURSE_KIT_SKIP_RASTER") == "1":
+    import io as _io
+
+    import matplotlib.backend_bases as _backend_bases
+    from PIL import Image as _Image
+
+    _buffer = _io.BytesIO()
+    _Image.new("RGB", (1, 1), "white").save(_buffer, format="PNG")
+    _BLANK_PNG = _buffer.getvalue()
+    _draw = _backend_bases.FigureCanvasBase.print_figure
+
+    def _print_figure(self, filename, *args, **kwargs):
+        fmt = kwargs.get("format") or (
+            os.path.splitext(filename)[1][1:] if isinstance(filename, (str, os.PathLike)) else "")
+        if str(fmt).lower() != "png":
+            return _draw(self, filename, *args, **kwargs)
+        if hasattr(filename, "write"):
+            filename.write(_BLANK_PNG)
+        else:
+            with open(filename, "wb") as out:
+                out.write(_BLANK_PNG)
+        return None
+
+    _backend_bases.FigureCanvasBase.print_figure = _print_figure
