@@ -141,6 +141,55 @@ def test_cohesion_to_the_centre_of_all_n_is_named_on_three_boids():
     assert all("distance between two boids" in f for f in failed), failed
 
 
+
+def test_the_missing_half_is_named_on_two_boids_too():
+    """Sixth read: r² = w_s (n - 1)²/(n w_c) (the radial part of each push taken as 1/r) gives
+    on n = 2 the radius of cohesion towards all n, and the check said "leave the boid itself
+    out of the mean". The other four cases show which mistake it is."""
+    source = "def ring_radius(n, w_s, w_c):\n    return np.sqrt(w_s * (n - 1) ** 2 / (n * w_c))"
+    status, failed = judged(check.ring_radius, answer(source, "ring_radius"))
+    assert status == "incorrect" and len(failed) == 5
+    assert all("1/(2r), not 1/r" in f for f in failed), failed
+    assert not any("centre of the *other* n - 1 boids, not of all n" in f for f in failed)
+    _, failed = judged(check.ring_radius, answer(source, "ring_radius"), attempt=1)
+    assert all("w_s (n - 1)/(2r) outwards" in f for f in failed), failed
+    # and cohesion towards all n is still named on two boids
+    source = "def ring_radius(n, w_s, w_c):\n    return np.sqrt(w_s * (n - 1) / (2 * w_c))"
+    _, failed = judged(check.ring_radius, answer(source, "ring_radius"))
+    (two,) = [f for f in failed if f.startswith("2 boids")]
+    assert "centre of the *other* n - 1" in two and "1/(2r)" not in two
+
+
+def test_two_boids_alone_get_a_hint_that_covers_both_mistakes():
+    """Right for n >= 3 but √(w_s/(2 w_c)) for a pair: nothing tells the two mistakes apart,
+    so the hint says what a pair balances (|d| = 2r), true whichever slip was made."""
+    source = ("def ring_radius(n, w_s, w_c):\n"
+              "    if n == 2:\n        return np.sqrt(w_s / (2 * w_c))\n"
+              "    return np.sqrt(w_s * (n - 1) ** 2 / (2 * n * w_c))")
+    status, failed = judged(check.ring_radius, answer(source, "ring_radius"))
+    assert status == "incorrect" and len(failed) == 1 and failed[0].startswith("2 boids"), failed
+    assert "push is w_s/|d| along the chord" in failed[0] and "|d| = 2r" in failed[0]
+    assert "leave the boid itself out" not in failed[0] and "not 1/r" not in failed[0]
+    _, failed = judged(check.ring_radius, answer(source, "ring_radius"), attempt=1)
+    assert "√2 times that" in failed[0]
+
+
+@pytest.mark.parametrize("ws, wc", [(0.3, 1.0), (2.0, 0.5), (0.05, 3.0)])
+def test_ring_hints_decide_a_pair_by_the_other_cases(ws, wc):
+    """The class, on weights of our own: a pair's radius √(w_s/(2 w_c)) is read as the
+    mistake the other cases show, and as both only when they show neither."""
+    pair = np.sqrt(ws / (2 * wc))
+    r = {n: lesson.ring_radius(n, ws, wc) for n in (2, 4, 7)}
+    no_half = {n: np.sqrt(ws * (n - 1) ** 2 / (n * wc)) for n in (4, 7)}
+    all_n = {n: np.sqrt(ws * (n - 1) / (2 * wc)) for n in (4, 7)}
+    assert np.isclose(pair, np.sqrt(ws * 1 ** 2 / (2 * wc)))           # both slips, n = 2
+    for others, hint in ((no_half, cases.NO_HALF_HINT), (all_n, cases.ALL_N_HINT),
+                         ({n: None for n in (4, 7)}, cases.TWO_BOIDS_HINT)):
+        got = cases.ring_hints([(2, ws, wc, r[2], pair)]
+                               + [(n, ws, wc, r[n], others[n]) for n in (4, 7)])
+        assert got[0] == hint
+
+
 # --- Exercise 3: a sweep fails however it is written --------------------------------------
 
 #: Sort by x, then compare each point with the points less than R to its right, in a

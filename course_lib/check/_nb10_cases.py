@@ -212,6 +212,26 @@ def roundoff_bound(i, d, n: int, eps: float) -> np.ndarray:
     return 4.0 * (m + 4) * eps * size
 
 
+#: Cohesion towards the centre of all n boids, the boid itself included.
+ALL_N_HINT = (
+    "cohesion points to the centre of the *other* n - 1 boids, not of all n: how far is that "
+    "from the boid?", "leave the boid itself out of the mean: the centre of the other n - 1 "
+    "lies n/(n - 1) r from it, so cohesion pulls with w_c r n/(n - 1)")
+#: Each push's radial part taken as 1/r, not 1/(2r): r² = w_s (n - 1)²/(n w_c).
+NO_HALF_HINT = (
+    "the radial part of each push d/|d|² is 1/(2r), not 1/r: a chord of length |d| points only "
+    "|d|/(2r) of its length towards the centre", "so the n - 1 pushes add to w_s (n - 1)/(2r) "
+    "outwards; set that against cohesion's pull towards the centre of the other n - 1 boids")
+#: For two boids the two mistakes above give the same radius, √(w_s/(2 w_c)): when the
+#: other cases do not tell them apart, a hint that holds for both.
+TWO_BOIDS_HINT = (
+    "with two boids the push is w_s/|d| along the chord and cohesion pulls towards the other "
+    "boid, w_c |d|: they balance at |d| = 2r",
+    "w_s/|d| = w_c |d| gives |d| = √(w_s/w_c), so r = |d|/2; your radius is √2 times that, "
+    "which both a cohesion towards the centre of all n and a radial part 1/r of each push "
+    "(instead of 1/(2r)) give")
+
+
 def ring_mistakes(n: int, ws: float, wc: float, r: float) -> list:
     """The usual wrong radii for the ring of ``n`` boids whose right radius is ``r``, each
     with its hint (nudge, then more)."""
@@ -227,10 +247,8 @@ def ring_mistakes(n: int, ws: float, wc: float, r: float) -> list:
         (("that is the distance to the nearest neighbour: return the circle's radius",
           "return r, the circle's radius; neighbours are 2 r sin(π/n) apart"),
          2 * r * np.sin(np.pi / n)),
-        (("cohesion points to the centre of the *other* n - 1 boids, not of all n: how far is that "
-          "from the boid?", "leave the boid itself out of the mean: the centre of the other n - 1 "
-          "lies n/(n - 1) r from it, so cohesion pulls with w_c r n/(n - 1)"),
-         np.sqrt(ws * (n - 1) / (2 * wc))),
+        (ALL_N_HINT, np.sqrt(ws * (n - 1) / (2 * wc))),
+        (NO_HALF_HINT, np.sqrt(ws * (n - 1) ** 2 / (n * wc))),
         (("only the radial part of each push survives: the sideways parts cancel in pairs, so "
           "adding the pushes' full sizes 1/|d| overcounts",
           "a chord of length |d| points |d|/(2r) of its length towards the centre, so the radial "
@@ -245,8 +263,10 @@ def ring_hints(cases) -> list:
     """The hint for each of ``cases`` (``(n, w_s, w_c, r, value)``, ``value`` the answer's
     radius or None), from the evidence of every case: two usual mistakes may give the same
     radius for one n (for n = 3 cohesion towards the centre of all n gives √(w_s/w_c), the
-    pair's spacing), so each case gets, of the mistakes it matches, the one that matches the
-    most cases (the first listed on a tie); None where it matches none."""
+    pair's spacing; for n = 2 cohesion towards all n and a radial part 1/r of each push give
+    the same), so each case gets, of the mistakes it matches, the one that matches the most
+    cases (on a tie, :data:`TWO_BOIDS_HINT` for those two at n = 2, else the first listed);
+    None where it matches none."""
     matched = [[hint for hint, wrong in ring_mistakes(n, ws, wc, r)
                 if value is not None and wrong is not None and np.isclose(value, wrong, rtol=1e-6)]
                for n, ws, wc, r, value in cases]
@@ -254,4 +274,10 @@ def ring_hints(cases) -> list:
     for hints in matched:
         for hint in hints:
             count[hint] = count.get(hint, 0) + 1
-    return [max(hints, key=lambda h: count[h]) if hints else None for hints in matched]
+    out = []
+    for (n, *_), hints in zip(cases, matched, strict=True):
+        best = max((count[h] for h in hints), default=0)
+        tied = [h for h in hints if count[h] == best]
+        out.append(TWO_BOIDS_HINT if n == 2 and {ALL_N_HINT, NO_HALF_HINT} <= set(tied)
+                   else tied[0] if tied else None)
+    return out
