@@ -172,14 +172,15 @@ def test_strain_limit_bounds_every_method():
         kw = {"substeps": 20} if method == "symplectic_euler" else {}
         if method == "xpbd":
             kw["options"] = {"substeps": 30}             # soft cloth: few small steps suffice
-        free = C.simulate(c, method, frames=20, fps=60, **kw)
-        limited = C.simulate(c, method, frames=20, fps=60, strain_limit=0.01, **kw)
+        free = C.simulate(c, method, frames=12, fps=60, **kw)
+        limited = C.simulate(c, method, frames=12, fps=60, strain_limit=0.01, **kw)
         peak_free = c.network.strain(free.x[1:]).max()
         peak = c.network.strain(limited.x[1:]).max()
         # The limiter sweeps until no spring is strained beyond tau (1 + 1 %) (hundreds of
         # sweeps on some steps here): its guarantee holds at every frame, for every method,
-        # where the free cloth stretches 6-7 %.
-        assert peak_free > 0.05 and peak <= 0.01 * (1 + 0.01) + 1e-12, (method, peak_free, peak)
+        # where the free cloth stretches more than four times tau (5.1-5.5 % in these 0.2 s,
+        # measured; 6-7 % by 0.33 s).
+        assert peak_free > 0.04 and peak <= 0.01 * (1 + 0.01) + 1e-12, (method, peak_free, peak)
 
 
 def test_damping_ratio_sets_c():
@@ -198,11 +199,13 @@ def peak_struct_strain(c, run):
 @pytest.fixture(scope="module")
 def fidelity_scenes():
     """The bench's scene (issue 19) at ×100 and ×1000, and the reference peak at ×100:
-    converged symplectic Euler, as issue 19 defines it, at half its measured (damped)
-    limit, 1 s, 32²."""
+    converged symplectic Euler, 1 s, 32². Issue 19 (and make bench) run it at half its
+    measured (damped) limit; here it runs at 0.9 times the limit, 0.56 times the cost: the
+    peak there is 0.2444 % against 0.2451 % at half of it (measured), a first-order error of
+    at most 0.002 pp, a hundred times less than the smallest margin below (0.2 pp, XPBD)."""
     scenes = {f: C.sheet(n=32, k_struct=300.0 * f, damping_ratio=0.1) for f in (100, 1000)}
     c = scenes[100]
-    substeps = int(np.ceil(1 / (60 * 0.5 * C.explicit_dt_max(c))))
+    substeps = int(np.ceil(1 / (60 * 0.9 * C.explicit_dt_max(c))))
     reference = C.simulate(c, "symplectic_euler", frames=60, fps=60, substeps=substeps)
     assert reference.stable
     return scenes, peak_struct_strain(c, reference)
@@ -214,7 +217,7 @@ def fidelity_scenes():
                                     pytest.param("xpbd", marks=pytest.mark.roundoff)])
 def test_defaults_meet_the_fidelity_target(fidelity_scenes, method):
     """Issue 19: with one call per 1/60 s frame and the defaults, peak structural strain over
-    1 s within 0.5 percentage points of converged symplectic Euler (half its limit), 32²,
+    1 s within 0.5 percentage points of converged symplectic Euler (see the fixture), 32²,
     stiffness ×100 and ×1000 (springs damped at 10 % of critical, the bench's scene)."""
     scenes, ref_100 = fidelity_scenes
     peak = {f: peak_struct_strain(cf, C.simulate(cf, method, frames=60, fps=60))
@@ -230,13 +233,17 @@ def test_defaults_meet_the_fidelity_target(fidelity_scenes, method):
     # XPBD's peak comes from the free edge whipping round at the end of the second: runs
     # started 1e-12 m and 1e-9 m apart differ by 0.02 pp there, ten times less than the
     # room left (0.54 % against 0.745 % at ×100, 0.40 % against 0.5 % at ×1000).
-    if method == "xpbd":
-        # notebook 12: with 30 small steps per frame the sheet stretches more than 10 %,
-        # where the true motion stretches less than a quarter of a percent
-        assert ref_100 < 0.0025
-        for cf in scenes.values():
-            few = C.simulate(cf, method, frames=60, fps=60, options={"substeps": 30})
-            assert peak_struct_strain(cf, few) > 0.10
+
+
+def test_xpbd_with_few_small_steps_stretches_forty_times_more(fidelity_scenes):
+    """Notebook 12: with 30 small steps per frame the sheet stretches more than 10 %, where
+    the true motion stretches less than a quarter of a percent (not a round-off question:
+    peaks 13.1 % at ×100 and 11.4 % at ×1000, measured, against 0.02 pp of spread)."""
+    scenes, ref_100 = fidelity_scenes
+    assert ref_100 < 0.0025
+    for cf in scenes.values():
+        few = C.simulate(cf, "xpbd", frames=60, fps=60, options={"substeps": 30})
+        assert peak_struct_strain(cf, few) > 0.10
 
 
 def test_self_contact_pushes_close_pairs_to_the_thickness_and_keeps_momentum():
