@@ -42,7 +42,7 @@ def _warm() -> None:
     """What a worker does once before its first submission: import the grader, make its runtime."""
     from course_lib.instructor import cluster
 
-    cluster._worker_runtime()
+    cluster.prepare_worker()
 
 
 def _grade(folder: Path, out: Path, workers: int) -> tuple[float, float]:

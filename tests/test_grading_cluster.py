@@ -2,10 +2,11 @@
 
 The synthetic class (:mod:`course_lib.instructor.synth`) has every kind of answer the
 grader's tests know (right, wrong, crashing, looping, tampering, huge output, missing):
-each gets its expected status, a local run and a run on a two-worker ``LocalCluster``
-with one worker killed in the middle write byte-identical gradebooks, and an
-interrupted run resumes where it stopped (with a stand-in for the sandbox, so that each
-way of stopping costs nothing).
+each gets its expected status, a local run, a run on a two-worker ``LocalCluster`` with
+one worker killed in the middle, and a cluster run interrupted then resumed by the command
+line given the scheduler's address write byte-identical gradebooks; and an interrupted
+local run resumes where it stopped (with a stand-in for the sandbox, so that each way of
+stopping costs nothing).
 """
 
 import csv
@@ -13,8 +14,6 @@ import os
 import queue
 import signal
 import socket
-import subprocess
-import sys
 import threading
 import time
 
@@ -29,13 +28,14 @@ from course_lib.instructor.submissions import Cell, Notebook
 from course_lib.instructor.synth import KINDS, kinds_for, synth_class
 from course_lib.instructor.verdicts import Row
 
-LIMITS = Limits(deadline=60, cell_s=6, exercise_s=1.5, memory_mb=1024)  # what _cli_limits() passes
+LIMITS = Limits(deadline=60, cell_s=6, exercise_s=1.0, memory_mb=1024)  # what _cli_limits() passes
 SOLUTIONS = ROOT / "solutions"
+N = len(KINDS)  # students: each kind once (a few kinds prove local and cluster runs agree)
 
 
 @pytest.fixture(scope="module")
 def synthetic(tmp_path_factory):
-    return synth_class(tmp_path_factory.mktemp("synth"), 8, solutions=SOLUTIONS)
+    return synth_class(tmp_path_factory.mktemp("synth"), N, solutions=SOLUTIONS)
 
 
 @pytest.fixture(scope="module")
@@ -49,7 +49,7 @@ def local(synthetic, tmp_path_factory):
 def test_the_synthetic_class_has_every_kind_and_is_reproducible(synthetic, tmp_path):
     assert set(synthetic["kinds"].values()) == set(KINDS)
     assert kinds_for(200, seed=3) == kinds_for(200, seed=3) != kinds_for(200, seed=4)
-    again = synth_class(tmp_path, 8, solutions=SOLUTIONS)
+    again = synth_class(tmp_path, N, solutions=SOLUTIONS)
     for student in synthetic["kinds"]:
         for mine, theirs in ((synthetic["submissions"] / student, again["submissions"] / student),):
             assert sorted(p.name for p in mine.iterdir()) == sorted(p.name for p in theirs.iterdir())
@@ -66,7 +66,7 @@ def test_each_kind_gets_its_expected_status(synthetic, local):
     got = {(r.student, r.exercise): r.status for r in rows}
     assert got == expected
     looping = next(r for r in rows if synthetic["kinds"][r.student] == "looping")
-    assert "did not finish within 1.5 s" in looping.message
+    assert f"did not finish within {LIMITS.exercise_s:g} s" in looping.message
     huge = next(r for r in rows if synthetic["kinds"][r.student] == "huge_output")
     assert any(cell.get("dropped", 0) > 50_000_000 for cell in huge.details["run"].cells.values())
 
@@ -83,19 +83,6 @@ def dask_cluster():
 def _cli_limits() -> list[str]:
     return ["--timeout", str(LIMITS.deadline), "--cell-timeout", str(LIMITS.cell_s),
             "--exercise-timeout", str(LIMITS.exercise_s), "--memory", str(LIMITS.memory_mb)]
-
-
-def test_the_command_line_grades_on_a_scheduler_address(synthetic, local, dask_cluster, tmp_path):
-    cluster, _ = dask_cluster
-    out = tmp_path / "grades.csv"
-    command = [sys.executable, "-m", "course_lib.instructor", "grade", str(synthetic["submissions"]),
-               "--out", str(out), "--solutions", str(SOLUTIONS), *_cli_limits(), "--no-progress",
-               "--scheduler", cluster.scheduler_address]
-    done = subprocess.run(command, capture_output=True, text=True, timeout=600, cwd=tmp_path)
-    assert done.returncode == 0, done.stderr[-3000:]
-    assert out.read_bytes() == local[1]  # byte for byte the one-machine gradebook
-    assert "wrote " in done.stdout and (tmp_path / "grades-report.html").exists()
-    assert not (tmp_path / "grades.csv.journal").exists()
 
 
 @pytest.mark.parametrize(("address", "says"), [
@@ -148,9 +135,13 @@ def _grade_tasks_on(client) -> list[str]:
                                                            if str(k).startswith("grade-")])
 
 
-def test_an_interrupted_cluster_run_resumes_where_it_stopped(synthetic, local, dask_cluster, tmp_path,
-                                                             monkeypatch, capsys):
-    _, client = dask_cluster
+def test_an_interrupted_cluster_run_resumes_on_the_command_line(synthetic, local, dask_cluster, tmp_path,
+                                                               monkeypatch, capsys):
+    """A run on the cluster is interrupted; the command line, given the scheduler's address,
+    resumes it where it stopped and writes the one-machine gradebook byte for byte."""
+    from course_lib.instructor.__main__ import main
+
+    cluster, client = dask_cluster
     out = tmp_path / "grades.csv"
 
     def interrupt(n):
@@ -170,11 +161,16 @@ def test_an_interrupted_cluster_run_resumes_where_it_stopped(synthetic, local, d
     assert not _grade_tasks_on(client)
     capsys.readouterr()
     second = _appended(monkeypatch)
-    grade.grade_class([synthetic["submissions"]], out, solutions=SOLUTIONS, limits=LIMITS,
-                      progress=False, scheduler=client)
-    assert "resuming: 2 of 8 submissions" in capsys.readouterr().err
-    assert not set(first) & set(second) and len(first) + len(second) == 8  # each graded once
-    assert out.read_bytes() == local[1] and not (tmp_path / "grades.csv.journal").exists()
+    monkeypatch.chdir(tmp_path)
+    code = main(["grade", str(synthetic["submissions"]), "--out", str(out), "--solutions", str(SOLUTIONS),
+                 *_cli_limits(), "--no-progress", "--scheduler", cluster.scheduler_address])
+    printed = capsys.readouterr()
+    assert code == 0, printed.err[-3000:]
+    assert f"resuming: 2 of {N} submissions" in printed.err
+    assert not set(first) & set(second) and len(first) + len(second) == N  # each graded once
+    assert out.read_bytes() == local[1]  # byte for byte the one-machine gradebook
+    assert "wrote " in printed.out and (tmp_path / "grades-report.html").exists()
+    assert not (tmp_path / "grades.csv.journal").exists()
 
 
 def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, local, dask_cluster, tmp_path,
@@ -280,7 +276,7 @@ def test_an_interrupted_run_resumes_where_it_stopped(synthetic, tmp_path, monkey
     monkeypatch.setattr(grade, "grade_task", _fake(calls))
     _grade(synthetic, tmp_path / "whole.csv", feedback_dir=tmp_path / "fb-whole")
     whole = (tmp_path / "whole.csv").read_bytes()
-    assert not (tmp_path / "whole.csv.journal").exists() and len(calls) == 8
+    assert not (tmp_path / "whole.csv.journal").exists() and len(calls) == N
 
     out = tmp_path / "grades.csv"
     first: list = []
@@ -319,16 +315,16 @@ def test_a_journal_cut_short_changed_files_and_other_limits_are_regraded(synthet
         again: list = []
         monkeypatch.setattr(grade, "grade_task", _fake(again))
         _grade(synthetic, out)
-        assert first[3] in again and changed in again and len(again) == 8 - 2
+        assert first[3] in again and changed in again and len(again) == N - 2
         journal.write_bytes(saved)
         fresh: list = []
         monkeypatch.setattr(grade, "grade_task", _fake(fresh))
         _grade(synthetic, out, limits=Limits(deadline=61))  # another run: nothing is reused
-        assert len(fresh) == 8
+        assert len(fresh) == N
         journal.write_bytes(saved)
         fresh.clear()
         _grade(synthetic, out, resume=False)  # --restart
-        assert len(fresh) == 8
+        assert len(fresh) == N
     finally:
         notebook.write_text(notebook.read_text()[:-1])
 

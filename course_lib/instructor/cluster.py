@@ -54,9 +54,12 @@ class LibraryMismatch(RuntimeError):
     """A worker's course_lib is not the client's: the run must stop."""
 
 
-def _worker_runtime() -> Runtime:
+def prepare_worker() -> Runtime:
     """This worker process's private runtime, made once, in the Dask worker's scratch folder
-    (Dask removes it with the worker, and purges it if the worker was killed)."""
+    (Dask removes it with the worker, and purges it if the worker was killed).
+
+    :func:`grade_remote` calls it before its first submission; ``client.run(prepare_worker)``
+    prepares every worker of a cluster at once, before any work is sent."""
     global _RUNTIME
     with _LOCK:
         if _RUNTIME is None:
@@ -79,7 +82,7 @@ def grade_remote(task: Task, data: bytes | None, kit, limits: Limits, library: d
         raise LibraryMismatch(f"this worker's course_lib differs from the grading client's in {differ[:5]}"
                               f"{' and more' if len(differ) > 5 else ''}: install the same version of the "
                               "kit on every worker")
-    runtime = _worker_runtime()
+    runtime = prepare_worker()
     if task.path is None or data is None:
         return _lean(grade_task(task, runtime, kit, limits))
     inbox = Path(tempfile.mkdtemp(dir=runtime.root))
