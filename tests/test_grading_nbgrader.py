@@ -101,10 +101,16 @@ def test_generate_assignment_reproduces_our_student_versions(course, assignment)
 
 
 def test_autograde_scores_correct_blank_and_wrong(course):
+    """Two hand-ins: every answer right; and one answer wrong, one left blank (the stub),
+    the rest right. Each exercise is scored alone, so the second proves a wrong and a blank
+    answer earn nothing and the right ones their points."""
     root, nbgrader = course
     released = nbformat.read(root / "release" / A02 / f"{A02}.ipynb", as_version=4)
     solved = nbformat.read(ROOT / "solutions" / f"{A02}.ipynb", as_version=4)
     solution = {c.id: c.source for c in solved.cells}
+    a02 = load_kit(ROOT / "solutions")[A02]
+    wrong, blank = a02.exercises[0], a02.exercises[-1]
+    assert (wrong.name, blank.name) == ("forward_euler_step", "observed_order")
 
     def hand_in(student, answer):
         nb = copy.deepcopy(released)
@@ -119,17 +125,19 @@ def test_autograde_scores_correct_blank_and_wrong(course):
         path.parent.mkdir(parents=True)
         nbformat.write(nb, path)
 
+    def mixed(name, stub, sol):
+        if name == wrong.name:
+            return stub.replace("    # YOUR CODE HERE\n    raise NotImplementedError()",
+                                "    return y + dt * f(t + dt, y)")
+        return stub if name == blank.name else sol
+
     hand_in("correct", lambda name, stub, sol: sol)
-    hand_in("blank", lambda name, stub, sol: stub)
-    hand_in("wrong", lambda name, stub, sol: stub.replace(
-        "    # YOUR CODE HERE\n    raise NotImplementedError()", "    return y + dt * f(t + dt, y)")
-        if name == "forward_euler_step" else sol)
+    hand_in("mixed", mixed)
     nbgrader("autograde", A02, "--force")
     nbgrader("export")
     with (root / "grades.csv").open() as fh:
         scores = {r["student_id"]: (float(r["score"]), float(r["max_score"]))
                   for r in csv.DictReader(fh) if r["assignment"] == A02}
-    a02 = load_kit(ROOT / "solutions")[A02]
-    full, first = float(a02.possible), float(a02.exercises[0].points)  # the wrong one: forward_euler_step
-    assert a02.exercises[0].name == "forward_euler_step"
-    assert scores == {"correct": (full, full), "blank": (0.0, full), "wrong": (full - first, full)}
+    full, lost = float(a02.possible), float(wrong.points) + float(blank.points)
+    assert 0 < float(wrong.points) and 0 < float(blank.points) and lost < full
+    assert scores == {"correct": (full, full), "mixed": (full - lost, full)}
