@@ -157,3 +157,76 @@ def test_clock_prose_says_what_holds_on_any_machine():
     # the step ratios the prose quotes: 3147/121 = 26, 3147/32 = 98
     assert round(FEWEST["forward_euler"] / FEWEST["trapezoidal"]) == 26
     assert round(FEWEST["forward_euler"] / FEWEST["backward_euler"]) == 98
+
+
+# --- 2. Exercise 2: the linear-algebra mistakes escalate to a worked scalar case ----------
+
+
+def _steps(step):
+    """An answer to Exercise 2 that applies ``step(A, dt, x)`` n times (floats)."""
+    def answer(A, x0, dt, n):
+        out = [np.asarray(x0, dtype=float)]
+        for _ in range(n):
+            out.append(step(np.asarray(A, dtype=float), dt, out[-1]))
+        return np.array(out)
+    return answer
+
+
+def _eye(x):
+    return np.eye(len(x))
+
+
+# each mistake written two ways (the second is this file's own): the nudge names it, the
+# second wrong attempt adds the worked case a = -1, dt = 0.5 with the numbers it gives
+ESCALATING = [
+    (lambda A, dt, x: np.linalg.solve(_eye(x) + dt * A, x), "not (I + dt A)",
+     ("x0/(1 + 0.5) = 0.667 x0", "x0/(1 - 0.5) = 2 x0", "a decay that grows")),
+    (lambda A, dt, x: np.linalg.inv(_eye(x) + dt * A) @ x, "not (I + dt A)",
+     ("x0/(1 + 0.5) = 0.667 x0", "x0/(1 - 0.5) = 2 x0")),
+    (lambda A, dt, x: x + dt * A @ x, "FORWARD Euler",
+     ("(1 + dt a) x0 = 0.5 x0", "x0/(1 + 0.5) = 0.667 x0")),
+    (lambda A, dt, x: (_eye(x) + dt * A) @ x, "FORWARD Euler",
+     ("(1 + dt a) x0 = 0.5 x0", "x0/(1 + 0.5) = 0.667 x0")),
+    (lambda A, dt, x: (_eye(x) - dt * A) @ x, "SOLVE that system",
+     ("(1 + 0.5) x0 = 1.5 x0", "x1 = x0/(1 + 0.5) = 0.667 x0")),
+    (lambda A, dt, x: x - dt * A @ x, "SOLVE that system",
+     ("(1 + 0.5) x0 = 1.5 x0", "np.linalg.solve(I - dt A, x)")),
+]
+
+
+def _hints(out: str) -> list[str]:
+    return [ln.split("hint: ", 1)[1] for ln in out.splitlines() if "hint: " in ln]
+
+
+@pytest.mark.parametrize("step, names, worked", ESCALATING)
+def test_exercise_2_hint_escalates_to_a_worked_case(step, names, worked, capsys):
+    from course_lib.check import FAILURES, RESULTS
+    from course_lib.check import nb04 as check
+
+    FAILURES.pop("nb04.backward_euler_linear", None)
+    try:
+        outs = []
+        for _ in range(2):
+            check.backward_euler_linear(_steps(step))
+            assert RESULTS["nb04.backward_euler_linear"]["status"] == "incorrect"
+            outs.append(capsys.readouterr().out)
+    finally:
+        FAILURES.pop("nb04.backward_euler_linear", None)
+    first, second = _hints(outs[0]), _hints(outs[1])
+    assert first and second and first != second, outs
+    for hints in (first, second):
+        assert any(names in h for h in hints), hints
+    assert not any("worked case" in h for h in first), first
+    worked_hints = [h for h in second if "a worked case, the scalar decay a = -1, dt = 0.5" in h]
+    assert worked_hints, second
+    for words in worked:
+        assert any(words in h for h in worked_hints), (words, worked_hints)
+
+
+def test_worked_case_numbers_are_those_of_the_scalar_decay():
+    """The numbers the fuller hints quote: a = -1, dt = 0.5, x0 = 1."""
+    a, dt = -1.0, 0.5
+    assert round(1 / (1 - dt * a), 3) == 0.667                       # backward Euler
+    assert 1 / (1 + dt * a) == 2.0                                   # solve with I + dt A
+    assert 1 + dt * a == 0.5                                         # forward Euler
+    assert 1 - dt * a == 1.5                                         # multiplied by I - dt A

@@ -18,6 +18,7 @@ import numpy as np
 
 from .. import fields
 from ..integrators import integrate
+from .tolerance import escalate
 
 _J = np.array([[0.0, -1.0], [1.0, 0.0]])
 
@@ -52,6 +53,27 @@ def linear_newton(A, x0, dt: float, n: int) -> np.ndarray:
     return integrate(lambda t, x: A @ x, x0, (0.0, n * dt), dt, method="backward_euler").y
 
 
+# The three linear-algebra mistakes escalate to the same worked scalar case,
+# dx/dt = a x with a = -1 and dt = 0.5, where backward Euler gives x1 = x0/1.5.
+_SIGN = escalate(
+    "sign: x_next = x + dt A x_next gives (I - dt A) x_next = x, not (I + dt A)",
+    "a worked case, the scalar decay a = -1, dt = 0.5: backward Euler gives x1 = x0/(1 - dt a) "
+    "= x0/(1 + 0.5) = 0.667 x0, while solving (I + dt A) x1 = x0 gives x0/(1 - 0.5) = 2 x0, "
+    "a decay that grows. Move dt A x_next to the left: x_next - dt A x_next = x")
+_FORWARD = escalate(
+    "(I + dt A) x is FORWARD Euler: backward Euler takes the slope at the unknown end, "
+    "x_next = x + dt A x_next",
+    "a worked case, the scalar decay a = -1, dt = 0.5: forward Euler gives (1 + dt a) x0 = "
+    "0.5 x0, backward Euler x0/(1 - dt a) = x0/(1 + 0.5) = 0.667 x0. Backward Euler divides: "
+    "each step solves (I - dt A) x_next = x")
+_MULTIPLIED = escalate(
+    "you multiplied by (I - dt A); the unknown is x_next in (I - dt A) x_next = x: SOLVE "
+    "that system (np.linalg.solve)",
+    "a worked case, the scalar decay a = -1, dt = 0.5: multiplying gives (1 + 0.5) x0 = "
+    "1.5 x0, a decay that grows; backward Euler divides, x1 = x0/(1 + 0.5) = 0.667 x0, which "
+    "for a matrix is np.linalg.solve(I - dt A, x)")
+
+
 def linear_mistakes(A, x0, dt, n) -> dict:
     A, x0 = np.asarray(A, dtype=float), np.asarray(x0, dtype=float)
     eye = np.eye(len(x0))
@@ -68,12 +90,9 @@ def linear_mistakes(A, x0, dt, n) -> dict:
     with np.errstate(all="ignore"):
         diag = 1.0 - dt * np.diag(A)
         return {
-            "(I + dt A) x is FORWARD Euler: backward Euler takes the slope at the unknown end, "
-            "x_next = x + dt A x_next": run(lambda x: x + dt * A @ x),
-            ("you multiplied by (I - dt A); the unknown is x_next in (I - dt A) x_next = x: "
-             "SOLVE that system (np.linalg.solve)"): run(lambda x: (eye - dt * A) @ x),
-            "sign: x_next = x + dt A x_next gives (I - dt A) x_next = x, not (I + dt A)":
-                run(lambda x: np.linalg.solve(eye + dt * A, x)),
+            _FORWARD: run(lambda x: x + dt * A @ x),
+            _MULTIPLIED: run(lambda x: (eye - dt * A) @ x),
+            _SIGN: run(lambda x: np.linalg.solve(eye + dt * A, x)),
             ("that is the exact solution e^(A t) x0 (scipy.linalg.expm), not what backward "
              "Euler computes"): np.array([_expm(A * dt * k) @ x0 for k in range(n + 1)]),
             ("1 - dt A subtracts dt A from 1 in every entry: the matrix is I - dt A, with "
