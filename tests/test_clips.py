@@ -126,18 +126,24 @@ def test_each_notebooks_showcase_becomes_a_clip(number, tmp_path, no_system_ffmp
 
 
 #: Small builds of the showcases that live in their own lessons (notebooks 12-14): the
-#: options of each builder that keep the run short (12's drape has none: its full run is
-#: built, 3.4 s, and only 3 frames are written).
+#: options of each builder that keep the run short (12's drape has none: the test hands it
+#: a 4-frame drape, as tests/test_nb12_constraints.py does, instead of the full 3.4 s run;
+#: only 3 frames are written).
 SMALL = {"12": {}, "13": {"n_particles": 200, "seconds": 0.1, "fps": 30.0, "simulated": 0.05},
          "14": {"t_end": 0.0015}}
 
 
 @pytest.mark.parametrize("number", sorted(SMALL))
-def test_the_project_starters_showcases_become_clips(number, tmp_path, no_system_ffmpeg):
+def test_the_project_starters_showcases_become_clips(number, tmp_path, no_system_ffmpeg, monkeypatch):
     """Notebooks 12-14's own showcases, built small and written 3 frames at 40 dpi: the
     clip reads back with the frames, size and duration asked for."""
     entry = showcase.showcases()[number]
     assert entry.module.startswith(f"course_lib.lessons.nb{number}_")
+    if number == "12":
+        from course_lib.lessons import nb12_constraints
+
+        small = nb12_constraints.drape(frames=4)
+        monkeypatch.setattr(nb12_constraints, "drape", lambda frames, fps: small)
     anim = entry.build(**SMALL[number])
     width, height = anim._fig.get_size_inches() * 40
     info = clip_info(save_clip(anim, tmp_path / f"{entry.name}.mp4", dpi=40, frames=3, progress=False))
@@ -147,14 +153,22 @@ def test_the_project_starters_showcases_become_clips(number, tmp_path, no_system
     assert width / height == pytest.approx(16 / 9, rel=0.01)     # every project clip is 16:9
 
 
-def test_clips_command_line(tmp_path, capsys):
+def test_clips_command_line(tmp_path, capsys, monkeypatch):
     from course_lib.instructor.__main__ import main
 
     assert main(["clips", "--list"]) == 0
     assert "08_hair_chains" in capsys.readouterr().out
+    # The command builds each showcase with its builder's defaults (03: 40 frames at 10 per
+    # second, 4 s; the full build is 5 s of drawing, and each builder is tested above): the
+    # builder is handed 4 frames here, and the options the command passed are recorded.
+    asked, build = [], showcase.Showcase.build
+    monkeypatch.setattr(showcase.Showcase, "build",
+                        lambda self, **options: asked.append(options) or build(self, frames=4, **options))
     assert main(["clips", str(tmp_path), "--only", "03", "--format", "gif", "--dpi", "30",
                  "--no-progress"]) == 0
+    assert asked == [{}]                             # the builder's own defaults
     info = clip_info(tmp_path / "03_stability.gif")  # Pillow merges frames that repeat the last one
-    assert info["frames"] <= 40 and info["seconds"] == pytest.approx(40 / 10)
+    assert info["frames"] <= 4 and info["seconds"] == pytest.approx(4 / 10)
+    assert (info["width"], info["height"]) == (192, 108)  # --dpi 30 reached the writer
     assert main(["clips", str(tmp_path), "--only", "nothing"]) == 2
     assert "no showcase for 'nothing'" in capsys.readouterr().err
