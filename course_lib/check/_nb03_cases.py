@@ -58,11 +58,15 @@ TABLE = {"forward Euler's 1 + z": lambda z: 1 + z,
           "RK4's Taylor polynomial": lambda z: 1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24,
           "backward Euler's 1/(1 - z)": lambda z: 1 / (1 - z),
           "the trapezoid's (1 + z/2)/(1 - z/2)": lambda z: (1 + z / 2) / (1 - z / 2)}
-COMPLEX_STATE = ("this method updates a copy of y in place, so its result has y's dtype: a "
-                  "real state cannot hold a complex R(z). Start from a complex y")
+COMPLEX_STATE = escalate(
+    "this method updates a copy of y in place, so its result has y's dtype: a real state "
+    "cannot hold a complex R(z). Start from a complex y",
+    "np.ones(np.shape(z)) is float64, and out += 0.5 * dt * z * out cannot store the imaginary "
+    "part of z = -1 + 1j (NumPy raises a casting error): write y0 = np.ones_like(z, "
+    "dtype=complex) or np.ones(np.shape(z), dtype=complex)")
 
 
-def cast_hint(exc: Exception) -> str | None:
+def cast_hint(exc: Exception):
     """The hint for an answer whose real state met a method that updates it in place."""
     return COMPLEX_STATE if isinstance(exc, TypeError) and "cast" in str(exc) else None
 
@@ -107,17 +111,37 @@ MATRIX_CASES = [
 ]
 #: The hint for a wrong verdict on a matrix of each kind, in order of priority.
 MATRIX_HINTS = {
-    "jordan": ("spectral radius ≤ 1 is not enough: an eigenvalue on the unit circle with fewer "
-               "eigenvectors than its multiplicity (a Jordan block) makes M^n grow like n"),
-    "outside": ("an eigenvalue of modulus above 1 makes M^n grow, however slowly: compare each "
-                "|μ| with 1, not the trace, the determinant or a norm"),
-    "circle": ("|μ| = 1 neither grows nor decays: on the unit circle the powers stay bounded "
-               "when each eigenvalue there has a full set of eigenvectors"),
-    "transient": ("a large entry or norm is only a transient: what decides the long run is the "
-                  "spectral radius"),
-    "overflow": ("a harmless matrix whose transient passes the largest float (1.8e308): its "
-                 "powers overflow to inf or NaN, yet it decays. Decide from the eigenvalues, "
-                 "which never form those powers"),
+    "jordan": escalate(
+        "spectral radius ≤ 1 is not enough: an eigenvalue on the unit circle with fewer "
+        "eigenvectors than its multiplicity (a Jordan block) makes M^n grow like n",
+        "symplectic Euler at ω dt = 2, M = [[-3, 2], [-2, 1]], has μ = -1 twice, but M + I = "
+        "[[-2, 2], [-2, 2]] has rank 1: one eigenvector, so M^n = (-1)^n (I - n (M + I)) and "
+        "M^10 = [[21, -20], [20, -19]]. For each μ with |μ| = 1 count the eigenvectors, "
+        "2 - np.linalg.matrix_rank(M - μ I), against μ's multiplicity"),
+    "outside": escalate(
+        "an eigenvalue of modulus above 1 makes M^n grow, however slowly: compare each |μ| "
+        "with 1, not the trace, the determinant or a norm",
+        "diag(1.01, 0.2) has det 0.202 and trace 1.21, yet μ = 1.01 makes M^1000 about "
+        "21 000: compare np.abs(np.linalg.eigvals(M)).max() with 1"),
+    "circle": escalate(
+        "|μ| = 1 neither grows nor decays: on the unit circle the powers stay bounded when each "
+        "eigenvalue there has a full set of eigenvectors",
+        "-I has μ = -1 twice and two eigenvectors (M - μ I = 0, rank 0): (-I)^n = ±I stays "
+        "bounded, and so does a rotation (|μ| = 1, distinct). Call M unbounded on the circle "
+        "only when 2 - np.linalg.matrix_rank(M - μ I) is less than μ's multiplicity"),
+    "transient": escalate(
+        "a large entry or norm is only a transient: what decides the long run is the spectral "
+        "radius",
+        "[[0.5, 100], [0, 0.5]]^n has the corner entry 100 n 0.5^(n-1): 100 at n = 1 and 2, 75 "
+        "at n = 3, below 1e-5 by n = 30. Its eigenvalues are 0.5: decide from "
+        "np.abs(np.linalg.eigvals(M)).max()"),
+    "overflow": escalate(
+        "a harmless matrix whose transient passes the largest float (1.8e308): its powers "
+        "overflow to inf or NaN, yet it decays. Decide from the eigenvalues, which never form "
+        "those powers",
+        "[[0.999, 1e306], [0, 0.999]]^n has the corner entry 1e306 n 0.999^(n-1), about "
+        "3.7e308 near n = 1000: inf in floating point, though it decays afterwards. Its "
+        "eigenvalues are 0.999 < 1: np.linalg.eigvals(M) needs no power of M"),
     "slow": ("a slow growth (|μ| = 1.00001) or a long transient fooled your test: compare "
              "|μ| with 1 at round-off level",
              "a few powers of M cannot decide it: growth by 1.00001 per step shows only after "

@@ -54,8 +54,23 @@ _NO_DT = escalate(
     "f(t, y) is a velocity (m/s) and dt * f(t, y) the displacement (m) over the step: on the "
     "worked example, the vortex from (0, 1) with dt = 0.5, the step gives (0, 1) + 0.5 (-1, 0) "
     "= (-0.5, 1), where y + f(t, y) gives (-1, 1)")
-_SIGN = "wrong sign: forward Euler moves ALONG the velocity, y + dt * f(t, y)"
-_INCREMENT = "return the new state y + dt * f(t, y), not only the change dt * f(t, y)"
+#: The worked example: the vortex from (0, 1) with dt = 0.5 steps to (-0.5, 1).
+_WORKED = "on the worked example, the vortex from (0, 1) with dt = 0.5, the slope is (-1, 0)"
+_SIGN = escalate(
+    "wrong sign: forward Euler moves ALONG the velocity, y + dt * f(t, y)",
+    f"{_WORKED} and the step (0, 1) + 0.5 (-1, 0) = (-0.5, 1); y - dt * f(t, y) gives "
+    "(0.5, 1), a step backwards: write return y + dt * f(t, y)")
+_INCREMENT = escalate(
+    "return the new state y + dt * f(t, y), not only the change dt * f(t, y)",
+    f"{_WORKED}, the change (-0.5, 0) and the new state (0, 1) + (-0.5, 0) = (-0.5, 1): add y")
+_HALF = escalate(
+    "a step moves along the slope for the whole dt, not dt/2",
+    f"{_WORKED} and the step ends at (-0.5, 1); half of it gives (-0.25, 1): drop the 0.5, "
+    "y + dt * f(t, y)")
+_END_STATE = escalate(
+    _SLOPE_AT_END,
+    f"{_WORKED} at the start, so the step ends at (-0.5, 1); the slope at the predicted end "
+    "(-0.5, 1) is (-1, -0.5) and gives (-0.5, 0.75). Use f(t, y) only: return y + dt * f(t, y)")
 
 
 def _decay(t, y):
@@ -66,6 +81,23 @@ def _gust(t, y):
     """A non-autonomous field: a wind that turns with time, plus a little decay."""
     return np.stack((np.cos(t) - 0.5 * y[..., 0], np.sin(t) - 0.5 * y[..., 1]), axis=-1)
 
+
+def _wind(t: float) -> str:
+    """The wind of the time-dependent case at y = (0.5, -1) and time ``t``, as "(a, b)"."""
+    return "(" + ", ".join(f"{v:.3f}" for v in _gust(t, np.array([0.5, -1.0]))) + ")"
+
+
+#: The fuller hints' worked numbers on the time-dependent wind case (t = 0.3 s, dt = 0.25 s).
+_ON_WIND = ("on the time-dependent wind at t = 0.3 s from y = (0.5, -1) with dt = 0.25, the "
+            f"slope at the start is f(0.3, y) = {_wind(0.3)}")
+_TIME_END = escalate(
+    _SLOPE_AT_END,
+    f"{_ON_WIND}; you took f(0.55, y) = {_wind(0.55)}, the wind at the END of the step. Call f "
+    "with the step's own t: return y + dt * f(t, y)")
+_FROZEN_T = escalate(
+    _FROZEN_T,
+    f"{_ON_WIND}; at t = 0 the wind is f(0, y) = {_wind(0.0)}. Pass the t your step was given: "
+    "f(t, y), not f(0, y)")
 
 _STEP_CASES = [
     ("vortex from (0, 1), dt = 0.5 (the worked example)", fields.vortex, 0.0, [0.0, 1.0], 0.5),
@@ -82,14 +114,13 @@ def forward_euler_step(ck: Checker, student) -> None:
     def mistakes(f, t, y, dt):
         k1 = f(t, y)
         return {
-            (_SLOPE_AT_END,): y + dt * f(t + dt, y),
-            (_SLOPE_AT_END, _SLOPE_AT_END + " (here the predicted end state)"):
-                y + dt * f(t + dt, y + dt * k1),
+            _TIME_END: y + dt * f(t + dt, y),
+            _END_STATE: y + dt * f(t + dt, y + dt * k1),
             _NO_DT: y + k1,
             _SIGN: y - dt * k1,
             _INCREMENT: dt * k1,
             _FROZEN_T: y + dt * f(0.0, y),
-            "a step moves along the slope for the whole dt, not dt/2": y + 0.5 * dt * k1,
+            _HALF: y + 0.5 * dt * k1,
         }
 
     step_cases(ck, student, _STEP_CASES, forward_euler, mistakes,
@@ -126,9 +157,12 @@ def radius_after(ck: Checker, student) -> None:
             traj = integrate(whirlpool(k), [r0, 0.0], (0.0, n * dt), dt)
             assert math.isclose(float(np.linalg.norm(traj.y[-1])), expected, rel_tol=1e-12)
         if n > 1000:
-            ok, got = call_analysis(ck, what, RADIUS_LINE_BUDGET, (
+            ok, got = call_analysis(ck, what, RADIUS_LINE_BUDGET, escalate(
                 "the exercise asks for the analysis, one formula for any n, not a simulation "
-                "step by step"), student, r0, dt, n, k)
+                "step by step",
+                "here n = 1 000 000: your loop runs a million steps. One step multiplies |X| by "
+                "the same factor whatever X is (Section 3), so n steps multiply it by that "
+                "factor ** n: one line, however large n is"), student, r0, dt, n, k)
         else:
             ok, got = call(ck, what, student, r0, dt, n, k)
         if ok:
@@ -223,18 +257,33 @@ def _drift_hint(dt: float, tol: float, best: float, drift: float, brentq_named: 
                 "the radius grows by √(1 + dt²) per step, so over n = 2π/dt steps by "
                 "(1 + dt²)^(n/2), not (1 + dt²)^n")
     if near(root(tol / 100), 1e-4) or near(root(tol * 100), 1e-4):
-        return "tol is a fraction: 0.01 means 1 %, not 0.01 % (and not 100 %)"
+        return escalate("tol is a fraction: 0.01 means 1 %, not 0.01 % (and not 100 %)",
+                        f"with tol = {tol:g} the radius may grow by {100 * tol:g} % per "
+                        f"revolution: solve (1 + dt²)^(π/dt) = {1 + tol:g} as it stands, "
+                        "without multiplying or dividing tol by 100")
+    gap = f"your dt is off by {abs(dt / best - 1):.1e} relative"
     if abs(dt / best - 1) < 1e-3 and brentq_named:
-        return ("your step is close to the largest one, but not within 1e-6: is your root "
-                "finder converged? brentq's xtol is an absolute tolerance, and dt is only a few "
-                "thousandths here: ask for far less (or keep the default)")
+        return escalate(
+            "your step is close to the largest one, but not within 1e-6: is your root finder "
+            "converged? brentq's xtol is an absolute tolerance, and dt is only a few thousandths "
+            "here: ask for far less (or keep the default)",
+            f"{gap}, where 1e-6 is asked; at tol = 0.01 the step is about 0.0032 s, so an xtol "
+            "of 1e-5 already allows 0.3 %: call brentq(g, a, b) with its default xtol (2e-12)")
     if abs(dt / best - 1) < 1e-3:
-        return ("your step is close to the largest one, but not within 1e-6 relative: whatever "
-                "finds it (a scan over steps, a bisection of your own) stops too far from the "
-                "root. A root finder such as scipy.optimize.brentq gives it to ten digits")
+        return escalate(
+            "your step is close to the largest one, but not within 1e-6 relative: whatever finds "
+            "it (a scan over steps, a bisection of your own) stops too far from the root. A root "
+            "finder such as scipy.optimize.brentq gives it to ten digits",
+            f"{gap}, where 1e-6 is asked: a scan in steps of 1e-5 s can miss a root near "
+            "0.0032 s by 0.3 %. Write g(dt) = (π/dt) ln(1 + dt²) - ln(1 + tol) and return "
+            "scipy.optimize.brentq(g, 1e-6, 1.0)")
     if drift <= tol:
-        return ("your step meets the bound but is not the LARGEST that does: solve "
-                "growth = 1 + tol to full precision (a root finder, not a guess)")
+        return escalate(
+            "your step meets the bound but is not the LARGEST that does: solve "
+            "growth = 1 + tol to full precision (a root finder, not a guess)",
+            f"your dt = {dt:.4g} s lets the radius grow {100 * drift:.3g} % per revolution, "
+            f"less than the {100 * tol:g} % allowed: a larger step would do. The largest one "
+            "makes the growth exactly 1 + tol: find that root with scipy.optimize.brentq")
     return ("write the growth over one revolution as a function of dt and find where it "
             "equals 1 + tol with a root finder (scipy.optimize.brentq)",
             "find the dt where (1 + dt²)^(π/dt) = 1 + tol, e.g. with scipy.optimize.brentq")

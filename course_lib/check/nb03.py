@@ -87,15 +87,25 @@ def stability_function(ck: Checker, student) -> None:
                 escalate("you returned the change R - 1; return the new state y_1 = R(z) y_0",
                          "step returns the state after the step, y_1 = R(z) y_0; with y_0 = 1 "
                          "that IS R(z), nothing to subtract"): expected - 1,
-                "that is R(z)²: take one step, not two": expected**2,
+                escalate("that is R(z)²: take one step, not two",
+                         "for two forward Euler half steps R(-2.5) = (1 - 1.25)² = 0.0625; "
+                         "two steps give 0.0625² = 0.0039. Call step once and return its "
+                         "result, without feeding it back in"): expected**2,
                 escalate("the imaginary part is lost: start from a complex y, not a float array",
                          "a float array cannot hold z y: make y0 complex, e.g. "
                          "np.ones_like(z, dtype=complex), so that the step keeps the "
                          "imaginary part"): expected.real,
-                ("you returned |R(z)|, the modulus; return R(z) itself, a complex number "
-                 "(its modulus decides stability)"): np.abs(expected),
-                **{f"you returned {name}, a method from the table; measure the method you are "
-                   f"given by calling step": table(zc) for name, table in TABLE.items()},
+                escalate("you returned |R(z)|, the modulus; return R(z) itself, a complex "
+                         "number (its modulus decides stability)",
+                         "forward Euler's R(-1 + 1j) is 1 + z = 1j, of modulus 1: the phase is "
+                         "part of the answer. Drop np.abs and return the complex step result"):
+                    np.abs(expected),
+                **{escalate(f"you returned {name}, a method from the table; measure the method "
+                            "you are given by calling step",
+                            "the check hands you methods the table does not list (Kutta's "
+                            "third-order one, two half steps, a θ-method): R(z) must come from "
+                            "one call of step on dy/dt = z y from y = 1 with dt = 1"):
+                   table(zc) for name, table in TABLE.items()},
             }
             for mistake, wrong in mistakes.items():
                 if np.allclose(answer, wrong, rtol=rtol, atol=rtol):
@@ -187,16 +197,23 @@ def _limit_hint(probe: Probe, A, method: str, dt: float, limit: float):
     """The mistake the recorded runs point to, for a measured limit ``dt`` off by > 2 %."""
     runs = probe.runs()
     if not runs:
-        return ("find the limit by experiment: your function ran no simulation of "
-                "dy/dt = f(t, y) from y0")
+        return escalate("find the limit by experiment: your function ran no simulation of "
+                        "dy/dt = f(t, y) from y0",
+                        "f records every call, and none started from y0: run trial steps "
+                        "below dt_hi with traj = cl.integrate(f, y0, (0.0, 2000 * dt), dt, "
+                        "method) and keep the largest dt whose traj.stable is True")
     if dt > limit:  # a run above the limit passed as stable: which one, and why?
         # the run at the answer itself, or the nearest one below it: one the search judged
         # stable (the nearest above it may be the unstable end of the last bracket)
         below_answer = [r for r in runs if r[0] <= dt * (1 + 1e-9)] or runs
         step, n, _ = min(below_answer, key=lambda r: abs(r[0] / dt - 1))
         if abs(step / dt - 1) > 0.05:  # no run near the answer to read (e.g. not recorded)
-            return ("a run just above the limit grows slowly: check how many steps your runs "
-                    "take, and that your blow-up bound is not far above a stable run's size")
+            return escalate(
+                "a run just above the limit grows slowly: check how many steps your runs take, "
+                "and that your blow-up bound is not far above a stable run's size",
+                f"2 % above the limit |R| = {_growth(A, method, 1.02 * limit):.4f} per step: "
+                "at 1.01 per step a run needs ln(1000)/ln(1.01) ≈ 694 steps to grow 1000-fold. "
+                "Run thousands of steps, with a bound of about 1000 max|y0|")
         grew = probe.state_growth(step, n)  # max|y_k| / max|y0| over the run's own states
         if grew > 1e6 and n < SHORT_RUN:  # a high bound passes with long runs: steps first
             return short_run_hint(step, n, grew, _growth(A, method, 1.02 * limit))
@@ -220,11 +237,19 @@ def _limit_hint(probe: Probe, A, method: str, dt: float, limit: float):
         above = [r[0] for r in runs if r[0] > dt * (1 + 1e-9)]
         gap = f"your answer is {1 - dt / limit:.0%} below the limit"
         if not above:
-            return (f"{gap}, and your search ran no step above it: move up from your last stable "
-                    "step until a run blows up, then narrow the bracket")
-        return (f"{gap}: your search tried no step between {dt:.4g} s (stable) and "
-                f"{min(above):.4g} s (unstable). Narrow that bracket, e.g. by bisection, until "
-                "the two are within 1 %")
+            return escalate(f"{gap}, and your search ran no step above it: move up from your "
+                            "last stable step until a run blows up, then narrow the bracket",
+                            f"from {dt:.4g} s multiply the step by 1.1 until a run is unstable "
+                            f"({1.1 * dt:.4g} s, {1.21 * dt:.4g} s, ...), then bisect between "
+                            "the last stable step and the first unstable one")
+        mid = 0.5 * (dt + min(above))
+        return escalate(f"{gap}: your search tried no step between {dt:.4g} s (stable) and "
+                        f"{min(above):.4g} s (unstable). Narrow that bracket, e.g. by bisection, "
+                        "until the two are within 1 %",
+                        f"try the middle, {mid:.4g} s: if that run is stable it becomes the low "
+                        "end, else the high end; repeat while high / low > 1.01 (about "
+                        f"{int(np.ceil(np.log2(np.log(min(above) / dt) / np.log(1.01))))} "
+                        "halvings here)")
     step, n, _ = min(below)
     size = probe.state_growth(step, n)
     return (f"your run at dt = {step:.4g} s is stable (|R| = {_growth(A, method, step):.5f} ≤ 1) "
@@ -254,8 +279,12 @@ def largest_stable_dt(ck: Checker, student) -> None:
             ck.expect(True, f"{what}: limit {limit:.4g} s, measured {dt:.4g} s ({error:+.1%})")
         elif abs(error) <= LIMIT_RTOL:
             ck.expect(False, what, "right, but found without a single run: the exercise asks "
-                      "for the limit by experiment", "run the method from y0 with cl.integrate "
-                      "and judge each run by its verdict, traj.stable")
+                      "for the limit by experiment", escalate(
+                          "run the method from y0 with cl.integrate and judge each run by its "
+                          "verdict, traj.stable",
+                          "f records every call and none started from y0, so the limit came "
+                          "from theory: search over trial steps with traj = cl.integrate(f, y0, "
+                          "(0.0, 2000 * dt), dt, method) and traj.stable"))
         else:
             ck.expect(False, what, detail, _limit_hint(probe, A, method, dt, limit))
 
