@@ -294,12 +294,17 @@ def test_velocity_verlet_windows_from_the_jury_conditions():
                                     "velocity_verlet", "backward_euler", "trapezoidal"])
 def test_stable_windows_against_a_dense_scan(method):
     """stable_windows (what the widget says) is every step the step matrix keeps bounded,
-    for damping ratios 0 to 10: the Runge-Kutta methods' set is one interval."""
+    for damping ratios 0 to 10: the Runge-Kutta methods' set is one interval. The grid:
+    2000 even steps (the narrowest window or gap, 0.0023 of the range, holds 4 of them)
+    and 60 more within 1 % of the range either side of each edge the formula gives."""
     for zeta in (0.0, 0.05, 0.2, 0.35, 0.5, 0.51, 0.6, 1.0, 2.5, 10.0):
         c = 2 * zeta * np.sqrt(K * M)
         windows = nb07.stable_windows(method, K, M, c)
         top = 2.2 / (zeta * np.sqrt(K / M)) if zeta else 3.0 / np.sqrt(K / M)
-        grid = np.linspace(1e-4, top, 6000)
+        edges = [e for lo, hi in windows for e in (lo, hi) if 0 < e < top]
+        grid = np.concatenate([np.linspace(1e-4, top, 2000)]
+                              + [e + np.linspace(-0.01, 0.01, 60) * top for e in edges])
+        grid = grid[(grid > 0) & (grid <= top)]
         for dt in grid[::7] if method in ("backward_euler", "trapezoidal") else grid:
             rho = nb07.spectral_radius(nb07.step_matrix(method, K, M, c, dt))
             inside = any(lo < dt < hi for lo, hi in windows)
