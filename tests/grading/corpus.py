@@ -137,10 +137,15 @@ def build(root: Path, grader_file: Path, net: dict) -> dict[str, dict[str, list[
      .answer("radius_after", "while True:\n    pass").write(nb02("loop_in_exercise_02")))
     student("stubborn_loop_top_02", s02=ok02)
     Sub(A02).solve().add("""
-        while True:              # ignores the grader's alarm: must be killed, then skipped
+        import time
+        try:                     # computes until the grader's alarm, and ignores it:
+            while True:          # must be killed, then skipped
+                pass
+        except BaseException:
+            pass
+        while True:              # then waits (no CPU) and swallows whatever comes
             try:
-                while True:
-                    pass
+                time.sleep(0.1)
             except BaseException:
                 pass
         """).write(nb02("stubborn_loop_top_02"))
