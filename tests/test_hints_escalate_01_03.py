@@ -15,7 +15,18 @@ import math
 import numpy as np
 import pytest
 
-from course_lib.check import FAILURES, _nb01_cases, _nb02_cases, _nb03_cases, evaluate, nb01, nb02, nb03
+from course_lib.check import (
+    FAILURES,
+    _nb01_cases,
+    _nb01_hints,
+    _nb02_cases,
+    _nb02_hints,
+    _nb03_cases,
+    evaluate,
+    nb01,
+    nb02,
+    nb03,
+)
 from tests.planted import define
 
 
@@ -356,7 +367,7 @@ def test_repeated_mistake_gets_a_fuller_hint(module, exercise, source, nudge, mo
 
 # --- every mistake hint of the six modules escalates -----------------------------------------
 
-_MODULES = (nb01, nb02, nb03, _nb01_cases, _nb02_cases, _nb03_cases)
+_MODULES = (nb01, nb02, nb03, _nb01_cases, _nb02_cases, _nb03_cases, _nb01_hints, _nb02_hints)
 #: Where a call takes its hint by position: ``ck.expect(ok, what, detail, hint)``,
 #: ``call_analysis(ck, what, budget, hint, ...)``.
 _HINT_POSITION = {"expect": 3, "call_analysis": 3, "call_whole_array": 3}

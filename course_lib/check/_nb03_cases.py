@@ -7,15 +7,19 @@
   verdict on each points to, the hint of each kind (:data:`MATRIX_HINTS`), and wrong rules
   (a norm, the determinant) recognised by their verdicts (:data:`WRONG_RULES`,
   :func:`follows_rule`);
-- exercise 2: the hint for runs too short to reach the blow-up bound (:func:`short_run_hint`).
+- exercise 2: the hint for runs too short to reach the blow-up bound (:func:`short_run_hint`),
+  and :func:`limit_hint`, the mistake a search's recorded runs point to (its ``probe`` is
+  :class:`course_lib.check.nb03.Probe`).
 
-Imports NumPy and :func:`course_lib.check._answers.kutta3`.
+Imports NumPy, :func:`course_lib.check._answers.kutta3` and
+:func:`course_lib.stability.amplification_factor`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..stability import amplification_factor
 from ._answers import kutta3
 from .tolerance import escalate
 
@@ -209,3 +213,76 @@ def short_run_hint(step: float, n: int, grew: float, r: float):
         more += ("; and lower the bound: no stable run of these systems grows more than a few "
                  "times |y0|, so 1000 max|y0| is far enough")
     return escalate(nudge, more)
+
+
+def _growth(A, method: str, dt: float) -> float:
+    """|R| per step of the fastest-growing mode at step ``dt``."""
+    return float(max(abs(amplification_factor(method, lam * dt)) for lam in np.linalg.eigvals(A)))
+
+
+def limit_hint(probe, A, method: str, dt: float, limit: float):
+    """The mistake the recorded runs point to, for a measured limit ``dt`` off by > 2 %."""
+    runs = probe.runs()
+    if not runs:
+        return escalate("find the limit by experiment: your function ran no simulation of "
+                        "dy/dt = f(t, y) from y0",
+                        "f records every call, and none started from y0: run trial steps "
+                        "below dt_hi with traj = cl.integrate(f, y0, (0.0, 2000 * dt), dt, "
+                        "method) and keep the largest dt whose traj.stable is True")
+    if dt > limit:  # a run above the limit passed as stable: which one, and why?
+        # the run at the answer itself, or the nearest one below it: one the search judged
+        # stable (the nearest above it may be the unstable end of the last bracket)
+        below_answer = [r for r in runs if r[0] <= dt * (1 + 1e-9)] or runs
+        step, n, _ = min(below_answer, key=lambda r: abs(r[0] / dt - 1))
+        if abs(step / dt - 1) > 0.05:  # no run near the answer to read (e.g. not recorded)
+            return escalate(
+                "a run just above the limit grows slowly: check how many steps your runs take, "
+                "and that your blow-up bound is not far above a stable run's size",
+                f"2 % above the limit |R| = {_growth(A, method, 1.02 * limit):.4f} per step: "
+                "at 1.01 per step a run needs ln(1000)/ln(1.01) ≈ 694 steps to grow 1000-fold. "
+                "Run thousands of steps, with a bound of about 1000 max|y0|")
+        grew = probe.state_growth(step, n)  # max|y_k| / max|y0| over the run's own states
+        if grew > 1e6 and n < SHORT_RUN:  # a high bound passes with long runs: steps first
+            return short_run_hint(step, n, grew, _growth(A, method, 1.02 * limit))
+        if grew > 1e6:
+            return (f"your run at dt = {step:.4g} s reached {grew:.1e} max|y0| and still counted "
+                    "as stable: the blow-up bound is too high",
+                    f"your run at dt = {step:.4g} s reached {grew:.1e} max|y0| (the largest "
+                    "max|y| of its states) and still counted as stable: the blow-up bound is too "
+                    "high (without one, only overflow stops a run). No stable run of these "
+                    "systems grows more than a few times |y0|: a bound of 1000 max|y0| is far "
+                    "enough")
+        return (f"your run at dt = {step:.4g} s took {n} steps: too few for a run above the "
+                "limit to grow past the bound",
+                f"your run at dt = {step:.4g} s took {n} steps: there |R| = "
+                f"{_growth(A, method, step):.4f} per step, and in {n} steps its states "
+                f"reached {grew:.3g} max|y0|, not enough to pass the bound. Just above the "
+                "limit |R| is barely above 1: run thousands of steps, so that a slow growth "
+                "reaches the bound")
+    below = [r for r in runs if dt * (1 + 1e-9) < r[0] < limit]
+    if not below:  # no stable run was mistaken: the search stopped short of the limit
+        above = [r[0] for r in runs if r[0] > dt * (1 + 1e-9)]
+        gap = f"your answer is {1 - dt / limit:.0%} below the limit"
+        if not above:
+            return escalate(f"{gap}, and your search ran no step above it: move up from your "
+                            "last stable step until a run blows up, then narrow the bracket",
+                            f"from {dt:.4g} s multiply the step by 1.1 until a run is unstable "
+                            f"({1.1 * dt:.4g} s, {1.21 * dt:.4g} s, ...), then bisect between "
+                            "the last stable step and the first unstable one")
+        mid = 0.5 * (dt + min(above))
+        return escalate(f"{gap}: your search tried no step between {dt:.4g} s (stable) and "
+                        f"{min(above):.4g} s (unstable). Narrow that bracket, e.g. by bisection, "
+                        "until the two are within 1 %",
+                        f"try the middle, {mid:.4g} s: if that run is stable it becomes the low "
+                        "end, else the high end; repeat while high / low > 1.01 (about "
+                        f"{int(np.ceil(np.log2(np.log(min(above) / dt) / np.log(1.01))))} "
+                        "halvings here)")
+    step, n, _ = min(below)
+    size = probe.state_growth(step, n)
+    return (f"your run at dt = {step:.4g} s is stable (|R| = {_growth(A, method, step):.5f} ≤ 1) "
+            "but counted as unstable: a stable run may grow for a while before it decays",
+            f"your run at dt = {step:.4g} s is stable (|R| = {_growth(A, method, step):.5f} ≤ 1) "
+            f"but counted as unstable; run to the end, its states reach {size:.3g} max|y0| on "
+            "the way, since a stable "
+            "run of a damped spring can swing above its start before it decays. Put the bound "
+            "far above that, e.g. 1000 max|y0|")

@@ -16,6 +16,7 @@ import numpy as np
 from .. import fields
 from ..integrators import integrate
 from . import Checker, Hint, exercise
+from . import _nb01_hints as hints
 from ._answers import as_array, call, call_analysis, rtol_for
 from ._answers import close as _close
 from ._answers import mistake_hint as _mistake_hint
@@ -37,34 +38,11 @@ from .tolerance import escalate
 
 _RNG_SEED = 2026
 
-# Hints shared by the field exercises.
-_NO_TIME_HINT = escalate(
-    "this field does not depend on t; do not use t in the formula",
-    "this case is X = (0.5, -1.5) at t = 0 and at t = 2.7 s, and the two answers must be equal "
-    "(the vortex gives (1.5, 0.5) at both): build V from X[..., 0] and X[..., 1] only")
-_SHAPE_HINT = (
-    "return one velocity per position, an array of X's shape",
-    "return one velocity per position, an array of X's shape: take the columns with "
-    "X[..., 0] and X[..., 1] and join them with np.stack((vx, vy), axis=-1)",
-)
-_ROWS_HINT = escalate(
-    "X[0] and X[1] are the first two ROWS (particles) when X has shape (N, 2): take the "
-    "columns, X[..., 0] and X[..., 1]",
-    "with 3 particles X[0] is the first particle's (x, y), not the three x's: write "
-    "x, y = X[..., 0], X[..., 1], which is right for (2,), (N, 2) and (n, n, 2) alike")
-_NEW_ARRAY_HINT = escalate(
-    "compute a new array; do not assign into X",
-    "X[..., 0] = ..., X *= ... or X += ... write into the caller's array (the notebook's "
-    "particles change behind its back): build the result with np.stack((vx, vy), axis=-1), "
-    "or start from X.copy()")
 
 def _index_hint(exc: Exception) -> Hint:
     """The hint for an answer that indexes a single position ``(2,)`` like a cloud ``(N, 2)``."""
     if isinstance(exc, IndexError):
-        return escalate("X may be one position of shape (2,), with a single axis: index the "
-                        "last axis, X[..., 0] and X[..., 1], which works for every shape",
-                        "X = np.array([3.0, -2.0]) has X.shape == (2,): X[:, 0] raises "
-                        "IndexError there, while X[..., 0] is 3.0 and X[..., 1] is -2.0")
+        return hints.INDEX_HINT
     return None
 
 
@@ -72,7 +50,7 @@ def _all_mistakes(reference, mistakes_of, X) -> dict:
     """The usual mistakes at positions ``X``: the exercise's own, and the shape slips."""
     expected, mistakes = reference(0.0, X.copy()), mistakes_of(X.copy())
     if X.ndim > 1:
-        mistakes[_ROWS_HINT] = reference(0.0, X[:2].T.copy()).T
+        mistakes[hints.ROWS_HINT] = reference(0.0, X[:2].T.copy()).T
     mistakes[("the two components go on the LAST axis of the result, as in X",
               "the two components go on the LAST axis of the result, as in X: "
               "np.stack((vx, vy), axis=-1), not np.array([vx, vy])")] = np.moveaxis(expected, -1, 0)
@@ -108,13 +86,13 @@ def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=
         if not ok:
             continue
         shape_ok = np.shape(got) == X.shape
-        hint = diagnosis or _mistake_hint(got, mistakes, formula if shape_ok else _SHAPE_HINT)
+        hint = diagnosis or _mistake_hint(got, mistakes, formula if shape_ok else hints.SHAPE_HINT)
         if X.ndim > 2 and cloud_right:  # right on (N, 2), wrong on (n, n, 2): the axis
             hint = GRID_HINT
         right = _close(ck, got, expected, f"{name} at {what}", hint=hint)
         cloud_right = cloud_right or (X.ndim == 2 and right)
     ck.expect(untouched, f"{name} leaves X unchanged",
-              "your function modified the positions it was given", _NEW_ARRAY_HINT)
+              "your function modified the positions it was given", hints.NEW_ARRAY_HINT)
     if time_check:
         X = np.array([0.5, -1.5])
         expected_0, expected_t = reference(0.0, X.copy()), reference(2.7, X.copy())
@@ -125,7 +103,7 @@ def _field_cases(ck: Checker, answer, reference, mistakes_of, name: str, points=
             right_at_0 = a0 is not None and a0.shape == X.shape and np.allclose(
                 a0, expected_0, rtol=rtol_for(a0, 1e-9))
             _close(ck, got, expected_t, f"{name} at t = 2.7 s (time-independent)",
-                   hint=_NO_TIME_HINT if right_at_0 else diagnosis or formula)
+                   hint=hints.NO_TIME_HINT if right_at_0 else diagnosis or formula)
 
 
 @exercise(allow=())
@@ -140,17 +118,9 @@ def vortex_field(ck: Checker, vortex_field) -> None:
                      "check one point by hand: at X = (1, 0) your V must be (0, 1) (up) and at "
                      "(0, 1) it must be (-1, 0) (left); yours gives (0, -1) and (1, 0)"):
                 np.stack((y, -x), -1),
-            escalate("a minus sign is missing: V = (-y, x), not (y, x)",
-                     "at X = (0, 1) the vortex points left, (-1, 0); yours gives (1, 0): the "
-                     "x-component is -X[..., 1]"): np.stack((y, x), -1),
-            escalate("the components are not swapped: V = (-y, x), not (-x, y)",
-                     "at X = (1, 0) the vortex points straight up, (0, 1); yours gives (-1, 0): "
-                     "the x-component comes from y (-X[..., 1]), the y-component from x "
-                     "(X[..., 0])"): np.stack((-x, y), -1),
-            escalate("that is the radial field (x, y); the vortex swaps the components and "
-                     "negates the new x-component",
-                     "at X = (1, 0) yours points outwards, (1, 0); the vortex turns it up, "
-                     "(0, 1): V = np.stack((-X[..., 1], X[..., 0]), axis=-1)"): X,
+            hints.NO_MINUS_HINT: np.stack((y, x), -1),
+            hints.NOT_SWAPPED_HINT: np.stack((-x, y), -1),
+            hints.RADIAL_HINT: X,
         }
 
     _field_cases(ck, vortex_field, fields.vortex, mistakes, "vortex_field(t, X)",
@@ -181,28 +151,16 @@ def whirlpool(ck: Checker, whirlpool) -> None:
         def mistakes(X, k=k):
             out = {
                 OUTWARD_HINT: whirlpool_reference(0.0, X, -k),
-                escalate("the vortex part (-y, x) is missing: a whirlpool turns while it pulls in",
-                         "at (1, 0) with k = 0.5 the whirlpool is (0, 1) - 0.5 (1, 0) = (-0.5, 1); "
-                         "yours gives (-0.5, 0): add the vortex (-X[..., 1], X[..., 0])"):
+                hints.NO_VORTEX_HINT:
                     -k * np.asarray(X, dtype=float),
-                escalate("the inward pull -k (x, y) is missing",
-                         "at (1, 0) with k = 0.5 the whirlpool is (0, 1) - 0.5 (1, 0) = (-0.5, 1); "
-                         "yours gives the vortex's (0, 1): subtract k * X"): fields.vortex(0.0, X),
-                escalate("your pull acts on x only: the pull -k (x, y) has a y-component too, -k y",
-                         "at (0, 1) with k = 0.5 the whirlpool is (-1, 0) - 0.5 (0, 1) = (-1, -0.5); "
-                         "yours gives (-1, 0): the y-component is x - k y"):
+                hints.NO_PULL_HINT: fields.vortex(0.0, X),
+                hints.X_ONLY_HINT:
                     fields.vortex(0.0, X) - k * np.asarray(X, dtype=float) * [1.0, 0.0],
-                escalate("your pull acts on y only: the pull -k (x, y) has an x-component too, -k x",
-                         "at (1, 0) with k = 0.5 the whirlpool is (0, 1) - 0.5 (1, 0) = (-0.5, 1); "
-                         "yours gives (0, 1): the x-component is -y - k x"):
+                hints.Y_ONLY_HINT:
                     fields.vortex(0.0, X) - k * np.asarray(X, dtype=float) * [0.0, 1.0],
             }
             if k != 0.5:
-                out[escalate(f"use the argument k: this case calls whirlpool(t, X, k={k:g}), but "
-                             "your answer is the one for k = 0.5",
-                             f"at (1, 0) with k = {k:g} the whirlpool is (0, 1) - {k:g} (1, 0) = "
-                             f"({-k:g}, 1); yours gives (-0.5, 1): replace the number 0.5 in "
-                             "your formula by k")] = whirlpool_reference(0.0, X, 0.5)
+                out[hints.k_hint(k)] = whirlpool_reference(0.0, X, 0.5)
             return out
 
         _field_cases(ck, answer, reference, mistakes, f"whirlpool(t, X, k={k:g})", points,
@@ -210,32 +168,6 @@ def whirlpool(ck: Checker, whirlpool) -> None:
                      formula=("the whirlpool is the vortex plus a pull towards the centre of "
                               "strength k: check each part on its own (k = 0 is the vortex)",
                               "V = (-y, x) - k (x, y), that is (-y - k x, x - k y)"))
-
-
-#: Exercise 3's mistakes; the fuller hint works the worked example X = (1, 2), V = (-1, -1),
-#: dt = 0.5 s, whose answer is (0.5, 1.5).
-_WORKED = "on the worked example X = (1, 2), V = (-1, -1), dt = 0.5 s"
-_BY_ROWS_HINT = escalate(
-    "X[0] and X[1] are the first two PARTICLES when X has shape (N, 2): update the whole arrays "
-    "at once, without indexing",
-    "with 4 particles X[0] is particle 0's (x, y) and X[1] particle 1's; X + dt * V adds "
-    "row by row by itself, for one particle (2,) or N (N, 2): write return X + dt * V")
-_AGAINST_HINT = escalate(
-    "you moved against the velocity: the new position is X + dt V, not X - dt V",
-    f"{_WORKED} the particle moves to (1, 2) + 0.5 (-1, -1) = (0.5, 1.5); yours went to "
-    "(1.5, 2.5): change the minus to a plus, X + dt * V")
-_NO_DT_HINT = escalate(
-    "dt is missing (or taken as 1): in dt seconds a particle moves dt * V, not V",
-    f"{_WORKED} the particle moves by 0.5 (-1, -1) = (-0.5, -0.5) to (0.5, 1.5); X + V gives "
-    "(0, 1), a whole second's travel: write return X + dt * V")
-_DISPLACEMENT_HINT = escalate(
-    "you returned the displacement dt V; return the new position X + dt V",
-    f"{_WORKED} the displacement is (-0.5, -0.5) and the new position (1, 2) + (-0.5, -0.5) "
-    "= (0.5, 1.5): add X, return X + dt * V")
-_HALF_DT_HINT = escalate(
-    "you used dt / 2: a step of dt moves the particle by the whole dt * V",
-    f"{_WORKED} the particle moves to (0.5, 1.5); half the step gives (0.75, 1.75): drop the "
-    "0.5 (or / 2), X + dt * V")
 
 
 @exercise(allow=())
@@ -259,11 +191,11 @@ def advect_step(ck: Checker, advect_step) -> None:
             continue
         by_rows = np.array([X[0] + dt * V[0], X[1] + dt * V[1]]) if X.ndim == 2 else None
         _close(ck, got, expected, what, mistakes={
-            **({_BY_ROWS_HINT: by_rows} if by_rows is not None else {}),
-            _AGAINST_HINT: X - dt * V,
-            _NO_DT_HINT: X + V,
-            _DISPLACEMENT_HINT: dt * V,
-            _HALF_DT_HINT: X + 0.5 * dt * V,
+            **({hints.BY_ROWS_HINT: by_rows} if by_rows is not None else {}),
+            hints.AGAINST_HINT: X - dt * V,
+            hints.NO_DT_HINT: X + V,
+            hints.DISPLACEMENT_HINT: dt * V,
+            hints.HALF_DT_HINT: X + 0.5 * dt * V,
         }, hint=("in dt seconds each particle moves along its own velocity",
                  "the new position is X + dt * V"))
         ck.expect(
@@ -302,10 +234,7 @@ def _one_frame(ck: Checker, particle_frame, what, particles, V, dt, newborn) -> 
         return
     if not isinstance(got, dict):
         ck.expect(False, "particle_frame returns a dict of attribute arrays",
-                  f"got {type(got).__name__}", escalate(
-                      "return a dict with the same keys as particles",
-                      "particle_frame must return a dict such as {'X': ..., 'age': ..., "
-                      "'lifetime': ..., 'colour': ...}: one array per key of particles"))
+                  f"got {type(got).__name__}", hints.DICT_HINT)
         return
     missing = sorted(set(expected) - set(got))
     ck.expect(not missing, f"{what}: every attribute is kept (X, age, lifetime and colour)",
@@ -325,19 +254,10 @@ def _one_frame(ck: Checker, particle_frame, what, particles, V, dt, newborn) -> 
     for key in ("lifetime", "colour"):
         if key in got:
             _close(ck, got[key], expected[key], f"{what}: the {key} of the survivors and the "
-                   "newborns", hint=escalate(
-                       "every attribute must be filtered with the same alive mask and then "
-                       "extended with the newborns'",
-                       "for every key, including lifetime and colour: np.concatenate("
-                       "[particles[key][alive], newborn[key]]), with the one mask alive = "
-                       "new age < lifetime"))
+                   "newborns", hint=hints.ATTRIBUTES_HINT)
     ck.expect(all(np.array_equal(particles[k], given[k]) for k in particles),
               f"{what}: particle_frame leaves its input unchanged",
-              "your function modified the particles dict it was given", escalate(
-                  "build and return a new dict",
-                  "particles['age'] += dt (or particles['X'] = ...) changes the caller's dict: "
-                  "start from out = {} and store new arrays, e.g. out['age'] = "
-                  "particles['age'] + dt"))
+              "your function modified the particles dict it was given", hints.NEW_DICT_HINT)
 
 
 # --- flocking: the cohesion rule ---------------------------------------------------------
@@ -354,12 +274,7 @@ def cohesion(ck: Checker, cohesion) -> None:
     for what, X, radius in cohesion_cases():
         expected = cohesion_reference(X, radius)
         X_student = X.copy()
-        ok, got = call_analysis(ck, what, COHESION_LINE_BUDGET, escalate(
-            "write it without a Python loop over the boids: the offsets of every pair by "
-            "broadcasting, a boolean mask of neighbours, and masked means",
-            "D = X[None, :, :] - X[:, None, :] holds every offset X_j - X_i at once, shape "
-            "(N, N, 2); a boolean near of shape (N, N) marks the neighbours, and near.sum(axis=1) "
-            "counts them"), cohesion,
+        ok, got = call_analysis(ck, what, COHESION_LINE_BUDGET, hints.LOOP_HINT, cohesion,
             X_student, radius, why=(
                 "a vectorised answer runs a handful of lines whatever the size of the flock, so "
                 "yours loops in Python (over the boids, or their pairs)"))
@@ -374,10 +289,7 @@ def cohesion(ck: Checker, cohesion) -> None:
     for what, X, _, X_student, expected, got in runs:
         answer = as_array(got)
         if answer is not None and answer.shape == expected.shape and np.isnan(answer).any():
-            ck.expect(False, what, "your answer contains NaN", escalate(
-                "a boid with no neighbour has no pull: return 0 for it (your mean divided 0 by 0)",
-                "two boids 3 m apart with radius 1 m have no neighbour each: count 0, sum (0, 0), "
-                "and 0/0 is NaN. Divide by np.maximum(count, 1) so that their pull is (0, 0)"))
+            ck.expect(False, what, "your answer contains NaN", hints.NO_NEIGHBOUR_HINT)
             continue
         # Offsets between positions of up to 10 m: 10 µm is far below anything a flock
         # shows, and admits an answer computed in float32 anywhere along the way.
@@ -386,7 +298,7 @@ def cohesion(ck: Checker, cohesion) -> None:
             "for each boid i: the mean of X_j - X_i over the other boids j with "
             "|X_j - X_i| < radius, and 0 if there is none"))
         ck.expect(np.array_equal(X_student, X), f"cohesion leaves X unchanged ({what})",
-                  "your function modified the positions it was given", _NEW_ARRAY_HINT)
+                  "your function modified the positions it was given", hints.NEW_ARRAY_HINT)
 
 
 def _right_or_nan(got, expected) -> bool:

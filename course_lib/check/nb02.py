@@ -30,6 +30,7 @@ from scipy.optimize import brentq
 from .. import fields
 from ..integrators import forward_euler, integrate
 from . import Checker, exercise
+from . import _nb02_hints as hints
 from ._answers import call, call_analysis, close, one_number, step_cases
 from ._nb02_cases import (
     ORDER_CASES,
@@ -41,70 +42,17 @@ from ._nb02_cases import (
 from .policy import name_chains
 from .tolerance import escalate
 
-_SLOPE_AT_END = (
-    "the slope must be taken at the START of the step, f(t, y); you used the end of "
-    "the step (time t + dt or the predicted end state)"
-)
-_FROZEN_T = (
-    "pass the step's time t to f: this field changes with time, and you evaluated it at "
-    "t = 0"
-)
-_NO_DT = escalate(
-    "multiply the slope by dt: the position changes by dt * f(t, y), not by f(t, y)",
-    "f(t, y) is a velocity (m/s) and dt * f(t, y) the displacement (m) over the step: on the "
-    "worked example, the vortex from (0, 1) with dt = 0.5, the step gives (0, 1) + 0.5 (-1, 0) "
-    "= (-0.5, 1), where y + f(t, y) gives (-1, 1)")
-#: The worked example: the vortex from (0, 1) with dt = 0.5 steps to (-0.5, 1).
-_WORKED = "on the worked example, the vortex from (0, 1) with dt = 0.5, the slope is (-1, 0)"
-_SIGN = escalate(
-    "wrong sign: forward Euler moves ALONG the velocity, y + dt * f(t, y)",
-    f"{_WORKED} and the step (0, 1) + 0.5 (-1, 0) = (-0.5, 1); y - dt * f(t, y) gives "
-    "(0.5, 1), a step backwards: write return y + dt * f(t, y)")
-_INCREMENT = escalate(
-    "return the new state y + dt * f(t, y), not only the change dt * f(t, y)",
-    f"{_WORKED}, the change (-0.5, 0) and the new state (0, 1) + (-0.5, 0) = (-0.5, 1): add y")
-_HALF = escalate(
-    "a step moves along the slope for the whole dt, not dt/2",
-    f"{_WORKED} and the step ends at (-0.5, 1); half of it gives (-0.25, 1): drop the 0.5, "
-    "y + dt * f(t, y)")
-_END_STATE = escalate(
-    _SLOPE_AT_END,
-    f"{_WORKED} at the start, so the step ends at (-0.5, 1); the slope at the predicted end "
-    "(-0.5, 1) is (-1, -0.5) and gives (-0.5, 0.75). Use f(t, y) only: return y + dt * f(t, y)")
-
 
 def _decay(t, y):
     return -2.0 * y
 
-
-def _gust(t, y):
-    """A non-autonomous field: a wind that turns with time, plus a little decay."""
-    return np.stack((np.cos(t) - 0.5 * y[..., 0], np.sin(t) - 0.5 * y[..., 1]), axis=-1)
-
-
-def _wind(t: float) -> str:
-    """The wind of the time-dependent case at y = (0.5, -1) and time ``t``, as "(a, b)"."""
-    return "(" + ", ".join(f"{v:.3f}" for v in _gust(t, np.array([0.5, -1.0]))) + ")"
-
-
-#: The fuller hints' worked numbers on the time-dependent wind case (t = 0.3 s, dt = 0.25 s).
-_ON_WIND = ("on the time-dependent wind at t = 0.3 s from y = (0.5, -1) with dt = 0.25, the "
-            f"slope at the start is f(0.3, y) = {_wind(0.3)}")
-_TIME_END = escalate(
-    _SLOPE_AT_END,
-    f"{_ON_WIND}; you took f(0.55, y) = {_wind(0.55)}, the wind at the END of the step. Call f "
-    "with the step's own t: return y + dt * f(t, y)")
-_FROZEN_T = escalate(
-    _FROZEN_T,
-    f"{_ON_WIND}; at t = 0 the wind is f(0, y) = {_wind(0.0)}. Pass the t your step was given: "
-    "f(t, y), not f(0, y)")
 
 _STEP_CASES = [
     ("vortex from (0, 1), dt = 0.5 (the worked example)", fields.vortex, 0.0, [0.0, 1.0], 0.5),
     ("vortex, three particles at once, dt = 0.1", fields.vortex, 0.0,
      [[1.0, 0.0], [0.0, 2.0], [-1.5, 0.5]], 0.1),
     ("decay dy/dt = -2y, dt = 0.1", _decay, 0.0, [1.5], 0.1),
-    ("time-dependent wind at t = 0.3, dt = 0.25", _gust, 0.3, [0.5, -1.0], 0.25),
+    ("time-dependent wind at t = 0.3, dt = 0.25", hints.gust, 0.3, [0.5, -1.0], 0.25),
 ]
 
 
@@ -114,13 +62,13 @@ def forward_euler_step(ck: Checker, student) -> None:
     def mistakes(f, t, y, dt):
         k1 = f(t, y)
         return {
-            _TIME_END: y + dt * f(t + dt, y),
-            _END_STATE: y + dt * f(t + dt, y + dt * k1),
-            _NO_DT: y + k1,
-            _SIGN: y - dt * k1,
-            _INCREMENT: dt * k1,
-            _FROZEN_T: y + dt * f(0.0, y),
-            _HALF: y + 0.5 * dt * k1,
+            hints.TIME_END_HINT: y + dt * f(t + dt, y),
+            hints.END_STATE_HINT: y + dt * f(t + dt, y + dt * k1),
+            hints.NO_DT_HINT: y + k1,
+            hints.SIGN_HINT: y - dt * k1,
+            hints.INCREMENT_HINT: dt * k1,
+            hints.FROZEN_T_HINT: y + dt * f(0.0, y),
+            hints.HALF_HINT: y + 0.5 * dt * k1,
         }
 
     step_cases(ck, student, _STEP_CASES, forward_euler, mistakes,
