@@ -51,26 +51,51 @@ def test_both_orders_rerun_every_cell_once(path):
         assert shuffled not in (cells, cells[::-1])
 
 
-def test_a_cell_broken_by_a_later_cell_fails_the_rerun():
-    """A notebook that runs top to bottom but not again: the rerun test names the cell."""
+@pytest.fixture(scope="module")
+def rerun_session() -> tuple[int, str, dict[str, str]]:
+    """One pytest run (a subprocess, with a kernel per notebook) of three small notebooks
+    with ``--nbval-rerun`` and ``--nbval-rerun-max-seconds=1``: ``nb`` runs top to bottom
+    but not again, ``good`` does, ``slow`` has a slow cell (1.5 s) broken by a later one.
+    Returns the exit code, the output and each notebook's failure lines (the ``E`` lines
+    under its ``AssertionError: <name>.ipynb:``)."""
     build = ROOT / "build"
     build.mkdir(exist_ok=True)
     folder = tempfile.mkdtemp(prefix="rerun-", dir=build)
     try:
         nbformat.write(_notebook("x = 1", "y = x + 1", "x = 'text'"), f"{folder}/nb.ipynb")
         nbformat.write(_notebook("v = [1, 2]", "w = v[0]"), f"{folder}/good.ipynb")
+        # the slow cell breaks the fast one after it; the fast one breaks the slow one
+        nbformat.write(_notebook("x = 1", "import time; time.sleep(1.5); z = x + 1",
+                                 "y = x + 1", "x = 'text'"), f"{folder}/slow.ipynb")
         done = subprocess.run(
             [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-p", "no:xdist",
-             "--nbval-lax", "--nbval-current-env", f"--nbval-rerun={folder}", folder, "-rA"],
+             "--nbval-lax", "--nbval-current-env", f"--nbval-rerun={folder}",
+             "--nbval-rerun-max-seconds=1", folder, "-rA"],
             cwd=ROOT, capture_output=True, text=True, timeout=300)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
-    out = done.stdout
-    assert done.returncode == 1, out[-3000:]
-    assert re.search(r"FAILED \S*nb\.ipynb::rerun in other orders", out), out[-3000:]
-    assert "reverse order: cell 1 ('y = x + 1') raised TypeError" in out
-    assert re.search(r"PASSED \S*good\.ipynb::rerun in other orders", out), out[-3000:]
-    assert "6 passed" in out and "1 failed" in out   # 5 cells and one rerun
+    blocks: dict[str, str] = {}
+    name = None
+    for line in done.stdout.splitlines():
+        found = re.match(r"E\s+AssertionError: (\w+)\.ipynb:", line)
+        if found:
+            name = found.group(1)
+        elif not line.startswith("E"):
+            name = None
+        if name:
+            blocks[name] = blocks.get(name, "") + line + "\n"
+    return done.returncode, done.stdout, blocks
+
+
+def test_a_cell_broken_by_a_later_cell_fails_the_rerun(rerun_session):
+    """A notebook that runs top to bottom but not again: the rerun test names the cell."""
+    returncode, out, blocks = rerun_session
+    assert returncode == 1, out[-3000:]
+    assert re.search(r"FAILED \S*/nb\.ipynb::rerun in other orders", out), out[-3000:]
+    assert "reverse order: cell 1 ('y = x + 1') raised TypeError" in blocks["nb"], out[-3000:]
+    assert re.search(r"PASSED \S*/good\.ipynb::rerun in other orders", out), out[-3000:]
+    assert "good" not in blocks
+    assert "10 passed" in out and "2 failed" in out   # 9 cells and one rerun; two reruns
 
 
 def test_make_test_reruns_the_solutions():
@@ -87,7 +112,7 @@ def test_the_orders_can_be_chosen_and_unknown_ones_are_named():
         rerun_orders(cells, wanted=["sideways"])
 
 
-def test_the_slowest_cells_can_be_left_out_of_the_reruns():
+def test_the_slowest_cells_can_be_left_out_of_the_reruns(rerun_session):
     """``--nbval-rerun-max-seconds`` leaves out the cells whose Run All took longer (numbered
     by nbval among code cells, mapped back to the notebook's cells); the rest still re-run,
     so a quick cell broken by a later one is still caught."""
@@ -95,22 +120,9 @@ def test_the_slowest_cells_can_be_left_out_of_the_reruns():
     nb.cells.insert(1, nbformat.v4.new_markdown_cell("text"))
     assert _slow_cells(nb, {0: 0.1, 1: 5.0, 2: 0.2}, 1.0) == {2}
     assert _slow_cells(nb, {0: 0.1, 1: 5.0, 2: 0.2}, float("inf")) == set()
-    build = ROOT / "build"
-    build.mkdir(exist_ok=True)
-    folder = tempfile.mkdtemp(prefix="rerun-", dir=build)
-    try:
-        # the slow cell breaks the fast one after it; the fast one breaks the slow one:
-        # left out, the slow cell no longer fails the rerun, the fast one still does
-        nbformat.write(_notebook("x = 1", "import time; time.sleep(1.5); z = x + 1",
-                                 "y = x + 1", "x = 'text'"), f"{folder}/nb.ipynb")
-        done = subprocess.run(
-            [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-p", "no:xdist",
-             "--nbval-lax", "--nbval-current-env", f"--nbval-rerun={folder}",
-             "--nbval-rerun-max-seconds=1", folder, "-rA"],
-            cwd=ROOT, capture_output=True, text=True, timeout=300)
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
-    out = done.stdout
-    assert done.returncode == 1, out[-3000:]
-    assert "reverse order: cell 2 ('y = x + 1') raised TypeError" in out, out[-3000:]
-    assert "cell 1 (" not in out.split("rerun in other orders")[-1], out[-3000:]
+    # in a real run (the fixture's slow.ipynb): left out, the slow cell no longer fails the
+    # rerun, the fast one still does
+    _, out, blocks = rerun_session
+    assert re.search(r"FAILED \S*/slow\.ipynb::rerun in other orders", out), out[-3000:]
+    assert "reverse order: cell 2 ('y = x + 1') raised TypeError" in blocks["slow"], out[-3000:]
+    assert "cell 1 (" not in blocks["slow"], blocks["slow"]
