@@ -173,10 +173,15 @@ def test_an_interrupted_cluster_run_resumes_on_the_command_line(synthetic, local
     assert not (tmp_path / "grades.csv.journal").exists()
 
 
+def _dependencies(dask_scheduler) -> dict[str, list[str]]:
+    """Each task the scheduler holds -> the keys of the data it needs."""
+    return {str(key): [str(d.key) for d in ts.dependencies] for key, ts in dask_scheduler.tasks.items()}
+
+
 def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, local, dask_cluster, tmp_path,
                                                                    monkeypatch):
     """The client is held after each result it writes until a worker with work in hand has
-    been killed, so the kill always lands in the middle of the run, on a worker that holds
+    been killed (no task in flight needs data held only by workers), so the kill always lands in the middle of the run, on a worker that holds
     tasks whose results the client has not taken yet: those must be computed again."""
     _, client = dask_cluster
     out = tmp_path / "grades.csv"
@@ -207,6 +212,10 @@ def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, lo
         while (go_on := waiting.get(timeout=300)) is not None:
             busy = [w for w, keys in client.processing().items() if keys]
             if busy and not killed:  # the client is held: no result of this run is taken meanwhile
+                # no task may need data that lives only on workers (scattered): Dask's memory
+                # manager trims its replicas, and the kill below would then cancel the task
+                deps = client.run_on_scheduler(_dependencies)
+                assert deps and not any(deps.values()), deps
                 pid = client.run(os.getpid, workers=[busy[0]])[busy[0]]
                 os.kill(pid, signal.SIGKILL)
                 killed.append(busy[0])

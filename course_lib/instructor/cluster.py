@@ -135,8 +135,10 @@ def grade_on_cluster(tasks: list[Task], kit, limits: Limits, scheduler) -> Itera
     library = library_files(grading_modules(sorted({t.assignment.check_module for t in tasks})))
     futures: dict = {}
     try:
-        kit_future = client.scatter(kit, broadcast=True, hash=False)
-        library_future = client.scatter(library, broadcast=True, hash=False)
+        # The kit and the library's hashes go with each task (about 20 kB each), not
+        # scattered: scattered data lives only on workers, and once Dask's active memory
+        # manager has trimmed its replicas, killing the worker that holds the last copy
+        # cancels every task that needs it, instead of running it again elsewhere.
         waiting = iter(range(len(tasks)))
         queue = as_completed()
 
@@ -152,7 +154,7 @@ def grade_on_cluster(tasks: list[Task], kit, limits: Limits, scheduler) -> Itera
                 if t.path is None or _too_big(t.path):
                     yield i, grade_task(t, None, kit, limits)  # read_notebook refuses it first
                     continue
-                f = client.submit(grade_remote, t, _read(t), kit_future, limits, library_future,
+                f = client.submit(grade_remote, t, _read(t), kit, limits, library,
                                   key=f"grade-{run}-{i}", pure=False)
                 futures[f] = i
                 queue.add(f)
