@@ -181,7 +181,8 @@ def _dependencies(dask_scheduler) -> dict[str, list[str]]:
 def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, local, dask_cluster, tmp_path,
                                                                    monkeypatch):
     """The client is held after each result it writes until a worker with work in hand has
-    been killed (no task in flight needs data held only by workers), so the kill always lands in the middle of the run, on a worker that holds
+    been killed (no task in flight needs data held only by workers), so the kill always
+    lands in the middle of the run, on a worker that holds
     tasks whose results the client has not taken yet: those must be computed again."""
     _, client = dask_cluster
     out = tmp_path / "grades.csv"
