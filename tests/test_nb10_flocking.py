@@ -155,7 +155,8 @@ def test_the_same_flock_under_two_roundings():
     twins share the flock itself."""
     e = np.e
     both = studies.twins(0, 600)
-    assert np.array_equal(both["ulp"][1], studies.divergence(0, 600, "ulp")[1])
+    # one twin alone is the same run, step for step (compared over its first 10 s)
+    assert np.array_equal(both["ulp"][1][:50], studies.divergence(0, 50, "ulp")[1])
     for t, d, pol in both.values():
         at = {s: np.flatnonzero(np.isclose(t, s))[0] for s in (1, 5, 15, 60)}
         at[35] = np.flatnonzero(np.isclose(t, 35))[0]
@@ -269,12 +270,20 @@ def test_pillars_over_eight_seeds():
     assert inside.min() < covered < inside.max()                # "about the 5.7 %"
 
 
+@pytest.fixture(scope="module")
+def no_alignment():
+    """The eight runs without alignment (cell 35), shared by the two tests that quote them."""
+    return studies.ensemble(alignment=0.0)
+
+
 @pytest.mark.roundoff
-def test_key_states_over_eight_seeds(flock60):
+def test_key_states_over_eight_seeds(flock60, no_alignment):
     random_nn = flock60.random_nn
     weights = {"default": {}, "separation 0": {"separation": 0.0}, "alignment 0": {"alignment": 0.0},
                "cohesion 0": {"cohesion": 0.0}}
-    ens = {k: (flock60.until(15.0) if not kw else studies.ensemble(**kw)) for k, kw in weights.items()}
+    ens = {k: (flock60.until(15.0) if not kw else studies.ensemble(**kw)) for k, kw in weights.items()
+           if k != "alignment 0"}
+    ens["alignment 0"] = no_alignment
     printed = {"default": ("0.67", "0.73", "0.32", "0.99", 7),
                "separation 0": ("0.00", "0.06", "0.30", "0.97", 6),
                "alignment 0": ("0.74", "0.86", "0.05", "0.11", 0),
@@ -730,6 +739,9 @@ def test_check_neighbour_pairs_planted(planted, grid_solution):
     assert got == status, (planted, messages)
     if nudge:
         assert nudge in messages, (planted, messages)
+    if planted.startswith("all pairs, a row at a time"):   # capped: a ratio quoted as a bound
+        quoted = [line for line in messages.splitlines() if "times what it allocated" in line]
+        assert quoted and all("at least" in q and "stopped at that cap" in q for q in quoted), messages
 
 
 def test_check_neighbour_pairs_counts_reversed_copies_as_repeated():
@@ -807,7 +819,7 @@ def _prose() -> str:
 
 
 @pytest.mark.roundoff
-def test_without_alignment_the_polarization_after_15_s_not_over_the_run():
+def test_without_alignment_the_polarization_after_15_s_not_over_the_run(no_alignment):
     """Cell 35 quotes the eight runs' polarization *after 15 s*, rounded: every final value
     rounds into [0.05, 0.11] with a margin far above the rounding spread (< 1e-6, asserted in
     test_key_states_over_eight_seeds). Over the run it does not stay there (random headings
@@ -815,7 +827,7 @@ def test_without_alignment_the_polarization_after_15_s_not_over_the_run():
     text = _prose()
     assert ("after 15 s the polarization lies between 0.05 and 0.11 (rounded) in the eight runs"
             in text) and "stays between 0.05 and 0.11" not in text
-    e = studies.ensemble(alignment=0.0)
+    e = no_alignment
     assert e.final.shape == (8,)
     assert clear(e.final, 0.045, 1e-3) and clear(e.final, 0.115, 1e-3)
     assert np.all((e.final > 0.045) & (e.final < 0.115))
