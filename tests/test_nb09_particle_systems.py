@@ -854,7 +854,11 @@ def test_check_emit_names_a_uniform_count_of_the_wrong_width(name):
         assert status == "incorrect", (name, messages)
         assert "half-width" in messages if attempt == 0 else "mean + variance × U(-1, 1)" in messages
         assert "normal draw" not in messages and "is your random number bounded" not in messages, messages
-    # a normal draw still hears that Reeves' count is bounded
+
+
+def test_check_emit_gives_a_normal_draw_no_half_width_hint():
+    """A normal draw still hears that Reeves' count is bounded, not that its width is wrong
+    (once, beside the wrong widths above)."""
     normal = _emit_variant(lambda m, v, rng: max(0, round(m + v * rng.normal())))
     assert "half-width" not in judged(check.emit, normal)[1]
 
