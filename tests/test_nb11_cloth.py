@@ -477,7 +477,7 @@ SOLVE_PLANTED = {
         "    A = np.diag(np.repeat(mass, 3)) - h * dFdv.toarray() - h * h * dFdx.toarray()\n"
         "    b = h * (F0.ravel() + h * (dFdx @ v0.ravel()))\n"
         "    return np.linalg.solve(A, b).reshape(v0.shape)", "bw_velocity_change"), "incorrect",
-        "refuses numpy.linalg.solve"),
+        "calls numpy.linalg.solve, which this exercise refuses"),
     "spsolve (refused: not CG)": ((
         "def bw_velocity_change(mass, dFdx, dFdv, F0, v0, h):\n"
         "    A = scipy.sparse.diags(np.repeat(mass, 3)) - h * dFdv - h * h * dFdx\n"

@@ -188,7 +188,7 @@ def evaluate(check: Callable, *args, **kwargs) -> dict:
     verdict = {"status": "incorrect", "points": check.points, "error": None, "reference": None}
     watch = None
     try:  # the policy must never break a check: on any failure, assume no reference use
-        from .policy import exercise_rules, message, reference_use
+        from .policy import exercise_rules, message, reference_use, refused_names
         from .watch import LibraryWatch, watched_answer
 
         verdict["reference"] = reference_use(check, args[0]) if args else None
@@ -209,7 +209,7 @@ def evaluate(check: Callable, *args, **kwargs) -> dict:
             verdict["error"] = f"{type(exc).__name__}: {exc}"
             ck.failed.append(f"your code raised {verdict['error']}")
         if watch is not None and watch.found and verdict["status"] != "pending":
-            verdict["reference"] = message(watch.found)
+            verdict["reference"] = message(watch.found, refused=refused_names(check))
             ck.failed.insert(0, verdict["reference"])
     if verdict["status"] == "pending":
         ck.passed, ck.failed = [], []

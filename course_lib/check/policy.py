@@ -9,9 +9,8 @@ an argument (a field ``f``, a network, a random generator). Every other library 
 the quantity fails as "uses the library", whether or not anyone thought of it: the
 exercise's own function, a sibling that computes the same thing through another door
 (``2 * backward_euler(..., dt/2) - y`` for the implicit midpoint), the checks' private
-helpers. Exception classes stay usable. NumPy and SciPy stay allowed, except dotted
-prefixes a check lists in ``forbid=`` (e.g. ``"scipy.integrate"`` for an exercise that
-asks for an analysis rather than a simulation).
+helpers. Exception classes stay usable. NumPy and SciPy stay allowed, except what a check
+lists in ``forbid=`` (e.g. ``"scipy.integrate"`` where an analysis is asked, not a run).
 
 Two readings apply the rule:
 
@@ -255,22 +254,41 @@ def public_name(name: str) -> str:
     return ".".join(parts[:private[0]] + parts[-1:]) if private else name
 
 
-def message(found: list[str], itself: bool = False, named: list[str] = ()) -> str:
+def refused_names(check: Callable) -> tuple[str, ...]:
+    """What ``check`` refuses outside the library (``forbid=``), as public names, each once."""
+    rules = exercise_rules(check)
+    objs = [f"{getattr(o, '__module__', '?')}.{getattr(o, '__qualname__', '?')}"
+            for o in rules["forbid"] if _library_module(o) is None]
+    return tuple(dict.fromkeys(public_name(n) for n in (*rules["prefixes"], *objs)))
+
+
+def _listed(names: list[str]) -> str:
+    short = sorted(names, key=len)[:2]   # a long list: its two shortest names, then a count
+    head, last = (short, f"{len(names) - 2} more") if len(names) > 4 else (names[:-1], names[-1])
+    return ", ".join(head) + (" and " if head else "") + last
+
+
+def message(found: list[str], itself: bool = False, named: list[str] = (),
+            refused: tuple[str, ...] = ()) -> str:
     """The verdict line for an answer that uses the library (the grader matches its start).
-    ``named`` lists those of ``found`` the answer only names (never calls where it loads
-    them): with any of them the line says "uses", not "calls"."""
+    With any of ``found`` in ``named`` (only named, never called) it says "uses", not "calls";
+    it names each of ``refused`` (:func:`refused_names`) once and never calls one fine."""
     verb = "uses " if any(f in found for f in named) else "calls "
     found = list(dict.fromkeys(public_name(f) for f in found))
+    found = [f for f in found if not any(g.startswith(f + ".") for g in found)]  # most specific
     what = ("your answer is the library's own " if itself else "your function " + verb) + ", ".join(found[:3])
     outside = [f for f in found if not f.startswith(("course_lib", "a function of course_lib"))]
+    extra = [r for r in refused if r not in found and any(f.startswith(r + ".") for f in outside)]
     if outside and len(outside) == len(found):       # only a refused outside library
-        return (f"uses the reference: {what}, and this exercise refuses "
-                f"{', '.join(outside[:3])}: it asks you to write the computation yourself "
-                "(anything the check passes to your function is fine); an answer that calls "
-                "it earns no points")
+        which = f", and this exercise refuses {_listed(extra)}" if extra else (
+            ", which this exercise refuses")
+        return (f"uses the reference: {what}{which}: it asks you to write the computation "
+                "yourself (anything the check passes to your function is fine); an answer "
+                "that calls it earns no points")
+    but = f", except {_listed(list(refused))}, which would do it for you;" if refused else ", and"
     fine = ("anything the check passes to your function is fine, but this exercise refuses "
-            + ", ".join(outside[:3])) if outside else (
-        "NumPy and SciPy are fine, and so is anything the check passes to your function")
+            + (_listed(extra) if extra else "the others named here")) if outside else (
+        f"NumPy and SciPy are fine{but} so is anything the check passes to your function")
     return (f"uses the reference: {what}. This exercise asks you to write that computation "
             f"yourself ({fine}); an answer that calls the library's version earns no points")
 
@@ -308,4 +326,5 @@ def reference_use(check: Callable, answer: object) -> str | None:
     found = references_in_code(code, resolve, check, named)
     rules = exercise_rules(check)
     defaults = [r for d in _defaults(answer) if (r := _reference_name(d, rules)) and r not in found]
-    return message(found + defaults, named=named + defaults) if found or defaults else None
+    return (message(found + defaults, named=named + defaults, refused=refused_names(check))
+            if found or defaults else None)

@@ -236,7 +236,8 @@ def answer_binding(cells: list, name: str, check) -> Binding:
             return policy.import_path(aliases.map.get(head, "")) if kind == "global" else None
 
         found = policy.references_in_code(code, resolve, check) if code else []
-        return Binding(index, "def", policy.message(found) if found else None)
+        return Binding(index, "def", policy.message(found, refused=policy.refused_names(check))
+                       if found else None)
     target = aliases.map.get(name) if not isinstance(node, ast.Assign) else aliases.path(node.value)
     obj = policy.import_path(target) if target else None
     itself = policy.answer_is_reference(obj, check) if obj is not None else None
