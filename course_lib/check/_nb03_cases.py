@@ -163,11 +163,14 @@ POWERS_LINE_BUDGET = 500
 #: at most 1), with the hint for an answer whose verdicts are exactly that rule's.
 WRONG_RULES = [
     (lambda M: float(np.linalg.norm(M, 2)),
-     ("a norm above 1 does not mean growth: [[0.5, 100], [0, 0.5]] has norm 100, yet its powers "
-      "decay to zero. Decide from the eigenvalues",
-      "‖M‖ ≤ 1 is enough for bounded powers but far from needed: a large norm may be only a "
-      "transient ([[0.5, 100], [0, 0.5]]^n rises to about 100, then decays). The long run is "
-      "decided by the spectral radius, and on the unit circle by the eigenvectors")),
+     escalate(
+         "a norm above 1 does not mean growth: [[0.5, 100], [0, 0.5]] has norm 100, yet its "
+         "powers decay to zero. Decide from the eigenvalues",
+         "‖M‖ ≤ 1 is enough for bounded powers but far from needed: a large norm may be only a "
+         "transient ([[0.5, 100], [0, 0.5]]^n rises to about 100, then decays; its eigenvalues "
+         "are 0.5 and 0.5). Write mu = np.linalg.eigvals(M); bounded iff max|mu| ≤ 1 + 1e-7 and "
+         "every |mu| ≈ 1 has as many eigenvectors as its multiplicity "
+         "(np.linalg.matrix_rank(M - mu I) = 2 - multiplicity)")),
     (lambda M: float(abs(np.linalg.det(M))),
      ("|det M| is the product of the eigenvalues' moduli: diag(1.01, 0.2) has det 0.2, yet "
       "its powers grow. Compare each |μ| with 1",

@@ -188,10 +188,13 @@ def _drift_hint(dt: float, tol: float, best: float, drift: float, brentq_named: 
             return None
 
     if near(tol / math.pi):
-        return ("tol/π comes from linearising the growth as 1 + π dt, which understates it: "
-                "solve the exact condition instead",
-                "the drift per revolution is (1 + dt²)^(π/dt) ≈ e^(π dt), a bit MORE than "
-                "1 + π dt: solve the exact condition instead of linearising")
+        return escalate(
+            "tol/π comes from linearising the growth as 1 + π dt, which understates it: "
+            "solve the exact condition instead",
+            "the drift per revolution is (1 + dt²)^(π/dt) ≈ e^(π dt), a bit MORE than 1 + π dt: "
+            f"your dt = {dt:.4g} s lets the radius grow {100 * drift:.4g} % per revolution, more "
+            f"than the {100 * tol:g} % allowed. Write g(dt) = (π/dt) ln(1 + dt²) - ln(1 + tol) "
+            "and return scipy.optimize.brentq(g, 1e-6, 1.0)")
     if near(math.log1p(tol) / math.pi):
         return escalate(
             "ln(1 + tol)/π comes from the estimate e^(π dt), which slightly overstates "
@@ -201,9 +204,12 @@ def _drift_hint(dt: float, tol: float, best: float, drift: float, brentq_named: 
             "dt²/2 relative, more than the check's 1e-6): solve (π/dt) ln(1 + dt²) = "
             "ln(1 + tol) for dt with scipy.optimize.brentq")
     if near(root(tol, steps_per_factor=1.0), 1e-4):
-        return ("you compounded the factor 1 + dt² per step; it is |X|² that grows by it",
-                "the radius grows by √(1 + dt²) per step, so over n = 2π/dt steps by "
-                "(1 + dt²)^(n/2), not (1 + dt²)^n")
+        return escalate(
+            "you compounded the factor 1 + dt² per step; it is |X|² that grows by it",
+            "the radius grows by √(1 + dt²) per step, so over n = 2π/dt steps by "
+            f"(1 + dt²)^(n/2), not (1 + dt²)^n: with tol = {tol:g} your dt = {dt:.4g} s is "
+            f"{dt / best:.2f} times the largest step. The exponent is π/dt, not 2π/dt: "
+            "solve (π/dt) ln(1 + dt²) = ln(1 + tol)")
     if near(root(tol / 100), 1e-4) or near(root(tol * 100), 1e-4):
         return escalate("tol is a fraction: 0.01 means 1 %, not 0.01 % (and not 100 %)",
                         f"with tol = {tol:g} the radius may grow by {100 * tol:g} % per "

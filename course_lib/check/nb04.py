@@ -201,9 +201,7 @@ def _judge_midpoint_rule(ck, what, f, t, y, dt, keeps_norm, got, calls, named) -
     if answer is not None and not np.all(np.isfinite(answer)):
         stiff = f is _stiff  # the one case where an iteration that diverges is likely
         ck.expect(False, what, "your step returned NaN or inf",
-                  ("fixed-point iteration Y <- y + dt f(t + dt/2, (y + Y)/2) is only sure to "
-                   "converge when dt |∂f/∂y| / 2 < 1, and here it is 12.5: use Newton's method "
-                   "on the residual, with a finite-difference Jacobian") if stiff and iterated
+                  _fixed_point_hint(f, t, y, dt, float("nan"), here=True) if stiff and iterated
                   else "look for a division by zero or an overflow in your step")
         return
     # The residual names the failure for a float64 answer; a float32 one is judged on its
@@ -224,10 +222,7 @@ def _judge_midpoint_rule(ck, what, f, t, y, dt, keeps_norm, got, calls, named) -
                     "gives Y, which appears on both sides of the equation. Solve for it, e.g. "
                     "with Newton's method on the residual")
         if hint is None and np.max(np.abs(answer)) > 10 * scale:
-            hint = ("your iteration diverged: fixed-point iteration Y <- y + dt f(t + dt/2, "
-                    "(y + Y)/2) is only sure to converge when dt |∂f/∂y| / 2 < 1 (then it is "
-                    "a contraction). Use Newton's method on the residual, with a "
-                    "finite-difference Jacobian")
+            hint = _fixed_point_hint(f, t, y, dt, res)
         ck.expect(False, what, f"your Y leaves a residual of {res:.2g} in "
                   f"Y - y - dt f(t + dt/2, (y + Y)/2) = 0; the check wants round-off, below "
                   f"1e-10 × {scale:g}", hint or "iterate until the residual is at round-off "
@@ -237,6 +232,37 @@ def _judge_midpoint_rule(ck, what, f, t, y, dt, keeps_norm, got, calls, named) -
              hint="Y = y + dt f(t + dt/2, (y + Y)/2), solved for Y") \
             and keeps_norm and answer.ndim == 1:
         ck.passed[-1] += " (and |Y| = |y|)"
+
+
+def fixed_point_factor(f, t, y, dt) -> complex:
+    """What one pass of fixed-point iteration multiplies the error of Y by, near y: the
+    eigenvalue of largest modulus of dt J / 2, J = ∂f/∂y at (t + dt/2, y) by differences."""
+    shape, y = np.shape(y), np.asarray(y, dtype=float).ravel()
+    g = lambda u: np.ravel(f(t + 0.5 * dt, u.reshape(shape)))  # noqa: E731
+    h = 1e-7 * max(1.0, float(np.max(np.abs(y))))
+    J = np.column_stack([(g(y + h * e) - g(y)) / h for e in np.eye(y.size)])
+    mu = np.linalg.eigvals(0.5 * dt * J)
+    return complex(mu[np.argmax(np.abs(mu))])
+
+
+def _fixed_point_hint(f, t, y, dt, res: float, here: bool = False) -> tuple[str, str]:
+    """The hint for a fixed-point iteration that diverged (escalates: the factor per pass,
+    then Newton's method line by line)."""
+    mu = fixed_point_factor(f, t, y, dt)
+    factor = f"{mu.real:.3g}" if abs(mu.imag) < 1e-9 * abs(mu) else f"{abs(mu):.3g} in modulus"
+    y = np.ravel(y)
+    rate = (2 * mu.real / dt) if y.size == 1 else None
+    where = f"on dy/dt = {rate:.3g} y with dt = {dt:g}" if rate is not None else f"here (dt = {dt:g})"
+    reached = f", so your residual reached {res:.2g}" if np.isfinite(res) else ", until it overflowed"
+    nudge = ("your iteration diverged: fixed-point iteration Y <- y + dt f(t + dt/2, (y + Y)/2) "
+             "is only sure to converge when dt |∂f/∂y| / 2 < 1 (then it is a contraction)"
+             + (f", and here it is {abs(mu):.3g}" if here else "")
+             + ". Use Newton's method on the residual, with a finite-difference Jacobian")
+    return escalate(nudge, (
+        f"{where} each pass multiplies the error of Y by dt ∂f/∂y / 2 = {factor}{reached}. "
+        "Newton: G(Y) = Y - y - dt f(t + dt/2, (y + Y)/2); build J_G column by column, "
+        "(G(Y + h e_j) - G(Y)) / h with h = 1e-7 max(1, |Y|); then Y = Y - "
+        "np.linalg.solve(J_G, G(Y)), repeated until the update is below 1e-12 max(1, |y|)"))
 
 
 def _one_newton_step(res: float, res_at_y: float, calls: int, size: int) -> str | None:
