@@ -18,6 +18,7 @@ import numpy as np
 
 from . import Hint
 from . import _nb09_cases as _cases
+from .tolerance import escalate
 
 #: (mean count, variance, radius in m) of the emitter whose 2 × variance is not whole.
 ROUNDING_EMITTER = (3.35, 0.3, 1.0)
@@ -65,23 +66,23 @@ _DOWN = (np.floor(_M) + 0.5 - (_M - _V)) / (2 * _V)      # P(y rounds down): 0.7
 
 #: The hint for each deterministic rounding: a nudge that names it, then the fix.
 ROUNDING_HINTS = {
-    "nearest": (
+    "nearest": escalate(
         "rounding to the nearest whole number (round, np.round) biases the mean count when 2 × "
         f"variance is not whole: {_M:g} ± {_V:g} rounds down {_DOWN:.0%} of the time, a mean of "
         f"{rounded_mean(_M - _V, _M + _V, 'nearest'):g}; round at random instead",
-        f"rounding to the nearest biases the mean unless y's fractional part is spread evenly; {_FIX}"),
-    "down": (
+        f"it is unbiased only when y's fractional part is spread evenly; {_FIX}"),
+    "down": escalate(
         "int() truncates and np.floor rounds down: the count loses a fraction of a particle every "
         "frame, half of one on average",
-        f"int() and np.floor round y down, so the mean count falls short; {_FIX}"),
-    "up": (
+        _FIX),
+    "up": escalate(
         "np.ceil rounds up: the count gains a fraction of a particle every frame, half of one on "
-        "average", f"np.ceil rounds y up, so the mean count is too high; {_FIX}"),
+        "average", _FIX),
 }
 
 #: The hint for a mean count that is off only on :data:`ROUNDING_EMITTER`, by no known rule.
-ROUNDING_GENERIC = ("the mean count is off when 2 × variance is not a whole number: how is y "
-                    "made a whole number?", _FIX)
+ROUNDING_GENERIC = escalate("the mean count is off when 2 × variance is not a whole number: how "
+                            "is y made a whole number?", _FIX)
 
 
 def rounding_rule(means, emitters, se) -> str | None:
@@ -113,13 +114,13 @@ def count_variance_hint(draws) -> Hint:
     variance read as the statistical variance) or not at all. Rounding to a whole count adds
     up to 1/6 to the variance of each."""
     if all(counts.std() < 0.3 * v / np.sqrt(3) for (_, v, _), counts, _ in draws):
-        return ("the count hardly varies: is a new random number drawn every frame?",
+        return escalate("the count hardly varies: is a new random number drawn every frame?",
                 "draw a new count every frame: mean + variance × rng.uniform(-1, 1)")
     rules = {
-        ("rng.random() spans [0, 1), half of U(-1, 1): the spread is halved",
+        escalate("rng.random() spans [0, 1), half of U(-1, 1): the spread is halved",
          "mean + variance × U(-1, 1) with U = rng.uniform(-1, 1): a spread of the whole width"):
             lambda v: v * v / 12,
-        ("Reeves' variance is the half-width of the spread, not the statistical variance: do not "
+        escalate("Reeves' variance is the half-width of the spread, not the statistical variance: do not "
          "take its square root", "mean + variance × U(-1, 1): the count's standard deviation is "
          "then variance/√3"): lambda v: v / 3,
     }
@@ -139,7 +140,7 @@ def range_hint(outside) -> Hint:
     wrong width, or an unbounded (normal) draw."""
     if outside and all(_cases.flat(c) for c in outside):
         return _cases.WIDTH_HINT
-    return ("Reeves' count is never outside [mean - variance, mean + variance]: is your "
+    return escalate("Reeves' count is never outside [mean - variance, mean + variance]: is your "
             "random number bounded?",
             "Reeves' count is mean + variance × U(-1, 1) with U uniform (rng.uniform(-1, 1)), "
             "not a normal draw: it never leaves [mean - variance, mean + variance]")

@@ -12,7 +12,7 @@ check measures an answer's cost.
   bytes it allocated in all (tracemalloc, sampled at every line of the answer's own code),
   stopping it after :func:`line_limit` lines.
 
-Imports NumPy and the standard library only.
+Imports NumPy, the standard library and :func:`~course_lib.check.tolerance.escalate`.
 """
 
 from __future__ import annotations
@@ -21,6 +21,8 @@ import sys
 import tracemalloc
 
 import numpy as np
+
+from .tolerance import escalate
 
 #: Lines of Python an answer may run on a case of N points: max(LINES_AT_LEAST, LINES_PER_POINT N).
 #: A grid that loops in Python over the occupied cells runs about 25 lines per point (180,000
@@ -137,7 +139,7 @@ def grid_cases(seed: int):
 GRID_MORE = ("with cells of side radius a point has about 9ρR² candidates whatever N and whatever "
              "the region's shape (ρ the density): compare each point only with the points of its "
              "own and the 8 neighbouring cells")
-TABLE_HINT = ("that is an N × N table: bin the points into cells instead",
+TABLE_HINT = escalate("that is an N × N table: bin the points into cells instead",
               "an N × N table of distances grows as N²: bin the points into cells of side radius "
               "and compare each point only with the points of its own and the neighbouring cells")
 
@@ -213,18 +215,19 @@ def roundoff_bound(i, d, n: int, eps: float) -> np.ndarray:
 
 
 #: Cohesion towards the centre of all n boids, the boid itself included.
-ALL_N_HINT = (
+ALL_N_HINT = escalate(
     "cohesion points to the centre of the *other* n - 1 boids, not of all n: how far is that "
     "from the boid?", "leave the boid itself out of the mean: the centre of the other n - 1 "
     "lies n/(n - 1) r from it, so cohesion pulls with w_c r n/(n - 1)")
 #: Each push's radial part taken as 1/r, not 1/(2r): r² = w_s (n - 1)²/(n w_c).
-NO_HALF_HINT = (
+NO_HALF_HINT = escalate(
     "the radial part of each push d/|d|² is 1/(2r), not 1/r: a chord of length |d| points only "
-    "|d|/(2r) of its length towards the centre", "so the n - 1 pushes add to w_s (n - 1)/(2r) "
-    "outwards; set that against cohesion's pull towards the centre of the other n - 1 boids")
+    "|d|/(2r) of its length towards the centre", "the n - 1 pushes, each 1/(2r) along the "
+    "radius, add to w_s (n - 1)/(2r) outwards; set that against cohesion's pull towards the "
+    "centre of the other n - 1 boids")
 #: For two boids the two mistakes above give the same radius, √(w_s/(2 w_c)): when the
 #: other cases do not tell them apart, a hint that holds for both.
-TWO_BOIDS_HINT = (
+TWO_BOIDS_HINT = escalate(
     "with two boids the push is w_s/|d| along the chord and cohesion pulls towards the other "
     "boid, w_c |d|: they balance at |d| = 2r",
     "w_s/|d| = w_c |d| gives |d| = √(w_s/w_c), so r = |d|/2; your radius is √2 times that, "
@@ -238,23 +241,23 @@ def ring_mistakes(n: int, ws: float, wc: float, r: float) -> list:
     pair = np.sqrt(ws / wc) / 2
     chords = np.sum(1.0 / (2.0 * np.sin(np.pi * np.arange(1, n) / n)))   # Σ r/|d| over neighbours
     return [
-        (("that is the pair's radius for every n: with n boids each one feels n - 1 pushes, and "
+        (escalate("that is the pair's radius for every n: with n boids each one feels n - 1 pushes, and "
           "cohesion pulls towards the centre of the other n - 1",
           "add up the radial parts of the n - 1 pushes and set them against the pull of cohesion "
           "towards the centre of the other n - 1 boids"), pair),
-        (("that is a distance between two boids: the exercise asks for the radius of their circle",
+        (escalate("that is a distance between two boids: the exercise asks for the radius of their circle",
           "return r, the circle's radius; neighbours are 2 r sin(π/n) apart"), 2 * pair),
-        (("that is the distance to the nearest neighbour: return the circle's radius",
+        (escalate("that is the distance to the nearest neighbour: return the circle's radius",
           "return r, the circle's radius; neighbours are 2 r sin(π/n) apart"),
          2 * r * np.sin(np.pi / n)),
         (ALL_N_HINT, np.sqrt(ws * (n - 1) / (2 * wc))),
         (NO_HALF_HINT, np.sqrt(ws * (n - 1) ** 2 / (n * wc))),
-        (("only the radial part of each push survives: the sideways parts cancel in pairs, so "
+        (escalate("only the radial part of each push survives: the sideways parts cancel in pairs, so "
           "adding the pushes' full sizes 1/|d| overcounts",
           "a chord of length |d| points |d|/(2r) of its length towards the centre, so the radial "
           "part of d/|d|² is 1/(2r), the same for every neighbour"),
          np.sqrt(ws * (n - 1) * chords / (n * wc)) if n > 2 else None),
-        (("check the units: w_s is in m²/s² and w_c in 1/s², and the radius in m",
+        (escalate("check the units: w_s is in m²/s² and w_c in 1/s², and the radius in m",
           "you returned r²: take the square root"), r * r),
     ]
 

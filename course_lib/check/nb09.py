@@ -26,6 +26,7 @@ from . import Checker, Hint, exercise
 from . import _nb09_cases as _cases
 from . import _nb09_counts as _counts
 from ._answers import call_analysis, close
+from .tolerance import escalate
 
 _SEED = 909
 
@@ -47,14 +48,14 @@ def _radius_hint(draws) -> Hint:
     inner = [np.mean(np.hypot(*p.T) < r / 2) for (_, _, r), _, p in draws]
     outer = [np.mean(np.hypot(*p.T) > 0.9 * r) for (_, _, r), _, p in draws]
     if all(abs(i - 0.5) < 0.03 and abs(o - 0.1) < 0.02 for i, o in zip(inner, outer, strict=True)):
-        return ("r = R u crowds the centre: how does the area within radius r grow with r?",
-                "r = R u crowds the centre: the area within r grows as r², so draw r = R √u "
-                "to give equal areas equal numbers of particles")
+        return escalate("r = R u crowds the centre: how does the area within radius r grow with r?",
+                        "it grows as r², so draw r = R √u to give equal areas equal numbers of "
+                        "particles")
     if all(i < 0.01 for i in inner):
         return ("the particles sit on the rim: that is a ring, not a disc",
                 "the particles sit on the rim: that is a ring, not a disc; draw r = R √u")
     if all(o < 0.01 for o in outer):
-        return ("no particle reaches the rim: is the square root taken of the right thing?",
+        return escalate("no particle reaches the rim: is the square root taken of the right thing?",
                 "r = R √u reaches R when u reaches 1; √(R u) stops at √R")
     return None
 
@@ -62,13 +63,13 @@ def _radius_hint(draws) -> Hint:
 def _disc_hint(pts, radius) -> Hint:
     corners = np.all(np.abs(pts) <= radius * (1 + 1e-12), axis=1).all()
     if corners and abs(np.mean(np.hypot(*pts.T) > radius) - (1 - np.pi / 4)) < 0.02:
-        return ("x and y drawn independently fill a square, not a disc",
-                "x and y drawn independently fill a square; draw a radius and an angle")
+        return escalate("x and y drawn independently fill a square, not a disc",
+                        "draw a radius and an angle")
     if radius < 1 and abs(np.hypot(*pts.T).max() - np.sqrt(radius)) < 0.01 * radius:
-        return (f"the farthest particle is at √R = {np.sqrt(radius):.3f}, not R = {radius:g}: is the "
+        return escalate(f"the farthest particle is at √R = {np.sqrt(radius):.3f}, not R = {radius:g}: is the "
                 "square root taken of R u instead of u?", "r = R √u reaches R when u reaches 1; "
                 "√(R u) reaches √R, beyond R when R < 1")
-    return ("some particles land outside the disc: can your radius exceed `radius`?",
+    return escalate("some particles land outside the disc: can your radius exceed `radius`?",
             "draw the radius so that it never exceeds R (r = R √u with u = rng.random(k)) and "
             "the angle over a full turn")
 
@@ -144,7 +145,7 @@ def emit(ck: Checker, func) -> None:
                       f"χ² = {within:.0f} on a 4 × 4 table of the radii (or angles) of neighbours in "
                       f"a frame; independent particles stay below {_cases.CHI2_LIMIT:.0f} in all but "
                       "one run in a million",
-                      hint=("the particles of one frame depend on each other: does each particle get "
+                      hint=escalate("the particles of one frame depend on each other: does each particle get "
                             "its own random numbers?",
                             "draw the k radii and the k angles at once (rng.random(k)), one of each per "
                             "particle; do not share, sort or space them out"))
@@ -160,14 +161,14 @@ def emit(ck: Checker, func) -> None:
     quadrants = np.array([np.mean((turn > 0) & (turn < 0.25)), np.mean((turn > 0.5) & (turn < 0.75))])
     ck.expect(np.all(np.abs(quadrants - 0.25) < 4 * se), "all directions are equally likely",
               f"fractions in the first and third quadrants: {quadrants.round(3)}",
-              hint=("the angle does not cover a full turn evenly",
+              hint=escalate("the angle does not cover a full turn evenly",
                     "draw the angle uniformly over a full turn, rng.uniform(0, 2π)"))
     stat = _cases.dependence(area, turn)
     ck.expect(stat < _cases.CHI2_LIMIT, "radius and angle are independent (χ² on a 4 × 4 table)",
               f"χ² = {stat:.0f} on the table of r²/R² against the angle, with 9 degrees of freedom; "
               f"independent ones stay below {_cases.CHI2_LIMIT:.0f} in all but one run in a million",
               hint=None if not apart else
-              ("the radius and the angle move together: are they drawn from the same random numbers?",
+              escalate("the radius and the angle move together: are they drawn from the same random numbers?",
                "draw the radii and the angles from separate calls to rng: one u used for "
                "both r = R√u and θ = 2πu puts every particle on one spiral"))
 
@@ -203,7 +204,7 @@ def _expire_hint(data: dict, n: int, work: dict, m: int, expected: dict) -> Hint
     wrong = [k for k in data if not np.array_equal(work[k][:survivors], expected[k])]
     if not found and m == survivors and wrong and all(
             _same_rows(work[k][:survivors], expected[k]) for k in data):
-        return ("keep the survivors in their original order",
+        return escalate("keep the survivors in their original order",
                 f"every survivor is there, but the rows of {wrong} are in another order: gather "
                 "them with the boolean mask, which keeps the order of the rows it selects")
     if not found and m == survivors and len(wrong) < len(data):
@@ -237,7 +238,7 @@ def expire(ck: Checker, func) -> None:
                 continue
             ck.expect(False, what, f"your function ran more than {_EXPIRE_LINES} lines of Python "
                       f"on {n} particles: it loops over the particles",
-                      hint=("no loop over particles: one boolean mask of the survivors, then one "
+                      hint=escalate("no loop over particles: one boolean mask of the survivors, then one "
                             "gather per array",
                             "build the mask of the survivors once; then, for every array in data, "
                             "copy the rows where the mask is True to the front in one operation"))
@@ -279,7 +280,7 @@ def expected_population(ck: Checker, func) -> None:
         right = close(ck, got, expected, what, rtol=1e-9, atol=1e-9,
                       mistakes=_cases.wrong_populations(mu, dt, life, var, at_lifetime) if named else None,
                       hint=None if not named else
-                      ("check the survival function at a few ages by hand",
+                      escalate("check the survival function at a few ages by hand",
                        "write S(a), the chance that a particle is still alive at age a (for V > 0 "
                        "and for V = 0); then add up, for every earlier frame, its count times S "
                        "at the age its particles have when they are counted"))

@@ -32,6 +32,7 @@ from . import _nb10_cases as _cases
 from ._answers import as_scalar, call_analysis, one_number, rtol_for
 from ._nb10_cases import GROWTH_LIMIT, SHAPE_LIMIT, roundoff_bound
 from .policy import name_chains
+from .tolerance import escalate
 
 _SEED = 1010
 #: Lines of Python the separation rule may run per case: a vectorized answer runs about five
@@ -68,7 +69,7 @@ def _close_rows(ck: Checker, got, expected, bound, what, mistakes) -> None:
     scale = np.abs(expected).max()
     relative = off.max() / scale
     if hint is None and relative < 1e-6:        # right to many digits, not to round-off
-        hint = (f"your pushes agree with the rule to {relative:.0e} of the largest, but round-off "
+        hint = escalate(f"your pushes agree with the rule to {relative:.0e} of the largest, but round-off "
                 f"leaves them within {bound.max() / scale:.0e}: is something added to |d|², such as "
                 "a guard ε against a division by zero?",
                 "a boid at the same point as another is not its neighbour (Section 1), so no pair "
@@ -96,22 +97,22 @@ def separation(ck: Checker, func) -> None:
         mistakes = {
             ("sign: separation pushes boid i away from j", "sign: separation pushes boid i "
              "away from j, along -d_ij (d_ij = x_j - x_i)"): -expected,
-            ("the push must grow as two boids close in: what is its size at distance |d|?",
+            escalate("the push must grow as two boids close in: what is its size at distance |d|?",
              "divide by |d|², not |d|: d/|d|² is a push of size 1/|d|"):
                 -_cases.scatter(i, d / np.sqrt(r2)[:, None], n),
-            ("d/|d|³ is a push of size 1/|d|²; the rule's push has size 1/|d|",
+            escalate("d/|d|³ is a push of size 1/|d|²; the rule's push has size 1/|d|",
              "the rule is d/|d|², a push of size 1/|d|"): -_cases.scatter(i, d / (r2 ** 1.5)[:, None], n),
             ("sum over the neighbours, do not average: more crowding must push harder",
              "sum over the neighbours, do not average: more crowding must push harder"):
                 expected / count,
-            ("with repeated indices in i, S[i] -= w applies each index only once (NumPy "
+            escalate("with repeated indices in i, S[i] -= w applies each index only once (NumPy "
              "buffers fancy-index updates)", "use np.add.at(S, i, -w) or np.bincount(i, weights) "
              "per column: both add every pair"): last,
             ("accumulate at i, the boid that sees its neighbour j, not at j",
              "accumulate at i, the boid that sees its neighbour j, not at j"): -_cases.scatter(j, w, n),
         }
         args = (i.copy(), j.copy(), d.copy(), n)
-        ok, got = call_analysis(ck, what, SEPARATION_LINES, (
+        ok, got = call_analysis(ck, what, SEPARATION_LINES, escalate(
             "vectorize: many pairs share the same i, so add their terms all at once with "
             "np.add.at or np.bincount instead of a Python loop",
             "np.add.at(S, i, -w) adds every row of w to the row of its boid, repeated i "
@@ -129,7 +130,7 @@ def separation(ck: Checker, func) -> None:
         got = np.asarray(got, dtype=float)
         if got.ndim == 2 and got.shape[1:] == (2,) and got.shape[0] == i.max() + 1 < n:
             ck.expect(False, what, f"expected one row per boid, shape ({n}, 2), got {got.shape}",
-                      hint=("the last boids may appear in no pair: size S by n, not by i",
+                      hint=escalate("the last boids may appear in no pair: size S by n, not by i",
                             "np.zeros((n, 2)): a boid without neighbours still has a row (of zeros)"))
             continue
         if got.shape == d.shape and d.shape != (n, 2):
@@ -169,7 +170,7 @@ def ring_radius(ck: Checker, func) -> None:
         if hint is None and np.isclose(value, expected, rtol=1e-6):
             hint = "close, but not to round-off: if you solve for r numerically, converge to 1e-10"
         ck.expect(False, what, "expected {} m, got {} m".format(*apart(float(expected), value)),
-                  hint=hint or ("start from a pair: w_s/d = w_c d, with d = 2r; then add neighbours "
+                  hint=hint or escalate("start from a pair: w_s/d = w_c d, with d = 2r; then add neighbours "
                                 "one at a time and keep only what points along the radius",
                                 "by symmetry only radial parts survive: each neighbour pushes "
                                 "outwards with the radial part of d/|d|², and cohesion pulls "
@@ -203,10 +204,12 @@ def _missing_hint(later) -> tuple[str, ...]:
     """The hint for missing pairs, from the evidence of every case: only when every missing
     pair lies at exactly the radius is the comparison to blame; else the stencil is."""
     if all(at_radius for _, _, at_radius in later):
-        return ("a pair exactly `radius` apart counts: |d| <= radius", "compare |d|² <= radius², not <")
-    return ("pairs in neighbouring cells are missing",
-            "with cells of side radius, a point's neighbours can lie in any of the 3 × 3 cells "
-            "around its own (all nine, not half of them); cells smaller than the radius need more")
+        return escalate("a pair exactly `radius` apart counts: |d| <= radius",
+                        "compare |d|² <= radius², not <")
+    return escalate("pairs in neighbouring cells are missing",
+                    "with cells of side radius, a point's neighbours can lie in any of the 3 × 3 "
+                    "cells around its own: visit all nine, or a half stencil (own, +x, +y, +x+y, "
+                    "+x−y) that covers each pair once; cells smaller than the radius need more")
 
 
 @exercise(allow=(), forbid=("scipy.spatial",))
@@ -257,20 +260,20 @@ def neighbour_pairs(ck: Checker, func) -> None:
             wrong.append(("each pair once, with i < j: that drops both a point paired with itself "
                           "and the copy (j, i) of every pair (i, j)",))
         elif selves:
-            wrong.append(("a point is paired with itself",
+            wrong.append(escalate("a point is paired with itself",
                           "a point is not its own neighbour: keep pairs with i != j"))
         elif reversed_ and not repeated:
-            wrong.append(("each pair once, with i < j", "return each pair as (i, j) with i < j"))
+            wrong.append(escalate("each pair once, with i < j", "return each pair as (i, j) with i < j"))
         elif reversed_:
-            wrong.append(("each pair once, with i < j", "keep the pairs with i < j: (i, j) and "
+            wrong.append(escalate("each pair once, with i < j", "keep the pairs with i < j: (i, j) and "
                           "(j, i) are the same pair"))
         elif repeated:
-            wrong.append(("some pairs appear twice: each pair once",
+            wrong.append(escalate("some pairs appear twice: each pair once",
                           "a pair met from both of its cells is listed twice: keep i < j, or "
                           "visit only half of the neighbouring cells"))
         missing, extra = expected - found, found - expected
         if not wrong and extra:
-            wrong.append(("some pairs you return are farther apart than the radius",
+            wrong.append(escalate("some pairs you return are farther apart than the radius",
                           "a shared or neighbouring cell is not enough: test |d|² <= radius² "
                           "for every candidate pair"))
         detail = (f"{len(found & expected)} of {len(expected)} pairs found, {len(extra)} not pairs"
