@@ -182,23 +182,24 @@ EXPIRE_MISTAKES = (
            "a particle whose age has reached its lifetime dies: it survives only while its age "
            "is below its lifetime (not below or equal), within round-off")),
     (_strict, escalate("an age counted as steps × dt can land one unit of round-off below a lifetime it "
-               "has reached (Section 1): 5 × (1/24) < 5/24",
-               "treat an age within a few units of round-off of its lifetime as reached: a relative "
-               "tolerance of a few ε (np.finfo(float).eps), as Section 1 does")),
+                       "has reached (Section 1): 5 × (1/24) < 5/24",
+                       "treat an age within a few units of round-off of its lifetime as reached: a relative "
+                       "tolerance of a few ε (np.finfo(float).eps), as Section 1 does")),
     (_isclose, escalate("np.isclose's default tolerance (1e-5 relative) kills a particle whose lifetime is "
-                "still 2 μs ahead of its age",
-                "round-off in a counted age is a unit or two in the last place, about 1e-16 "
-                "relative: a tolerance of a few ε is enough, and a larger one kills particles early")),
+                        "still 2 μs ahead of its age",
+                        "round-off in a counted age is a unit or two in the last place, about 1e-16 "
+                        "relative: a tolerance of a few ε is enough, and a larger one kills particles "
+                        "early")),
     (_loose, escalate(f"a particle with {ROUNDOFF_AHEAD} units of round-off (ε) of its lifetime still to go "
-              "was deleted: your tolerance is larger than round-off",
-              "round-off in a counted age is a unit or two in the last place: a relative tolerance "
-              "of a few ε (np.finfo(float).eps) is enough, and a tolerance of 1e-9 or of a "
-              "microsecond deletes particles that still have time to live")),
+                      "was deleted: your tolerance is larger than round-off",
+                      "round-off in a counted age is a unit or two in the last place: a relative tolerance "
+                      "of a few ε (np.finfo(float).eps) is enough, and a tolerance of 1e-9 or of a "
+                      "microsecond deletes particles that still have time to live")),
     (_whole_capacity, "only the first n rows are live; the rows beyond n are free slots"),
     (_inverted, "you kept the expired particles and deleted the living ones"),
     (_swap_with_last, escalate("keep the survivors in their original order",
-                       "moving the last particles into the holes breaks the order: gather the "
-                       "survivors' rows with the boolean mask instead, all at once")),
+                               "moving the last particles into the holes breaks the order: gather the "
+                               "survivors' rows with the boolean mask instead, all at once")),
     (_returns_n, _RIGHT_ARRAYS),
     (_returns_dead, _RIGHT_ARRAYS),
 )
@@ -264,49 +265,49 @@ def wrong_populations(mu, dt, life, var, at_lifetime_seen: bool = False) -> dict
     summed = np.cumsum(np.full(n, dt))                    # ages added up step by step
     half = (n - 1) // 2                                   # where mode="same" starts
     at_lifetime = escalate("a particle whose age has reached its lifetime is deleted before the count",
-                   "with fixed lifetimes S(a) = 1 while a < L, and 0 from a = L on (not a <= L)")
+                           "with fixed lifetimes S(a) = 1 while a < L, and 0 from a = L on (not a <= L)")
     first_frames = escalate("the first frames come out wrong: which part of the full convolution is the "
-                    "population after frame j?", "element j of the full convolution adds counts[k] "
-                    "times S at the age (j - k + 1) dt, for k = 0 ... j: that is the population after "
-                    "frame j, for the first len(counts) elements")
+                            "population after frame j?", "element j of the full convolution adds counts[k] "
+                            "times S at the age (j - k + 1) dt, for k = 0 ... j: that is the population "
+                            "after frame j, for the first len(counts) elements")
     mistakes = {  # first match wins: on one case two mistakes can give the same numbers
         escalate("the ages are summed, dt + dt + ...: after 100 steps of 0.1 s the sum falls short of "
-         "10 s (Section 1)", "count the ages, m × dt for m = 1, 2, ...: a sum of m steps piles "
-         "up m roundings, and the particle lives a frame too long"):
+                 "10 s (Section 1)", "count the ages, m × dt for m = 1, 2, ...: a sum of m steps piles "
+                 "up m roundings, and the particle lives a frame too long"):
             spread((summed < life * (1 - 4 * np.finfo(float).eps)).astype(float)) if var == 0 else None,
         escalate("a counted age m·dt can land a hair below a lifetime of m frames (Section 1): compare "
-         "it with a tolerance", "with dt = 1/24 s the age 5 × dt is one unit of round-off below "
-         "5/24 s: treat an age within a few units of round-off of the lifetime as reached, as "
-         "particles.reached does (age ≥ L (1 − 4ε))"):
+                 "it with a tolerance", "with dt = 1/24 s the age 5 × dt is one unit of round-off below "
+                 "5/24 s: treat an age within a few units of round-off of the lifetime as reached, as "
+                 "particles.reached does (age ≥ L (1 − 4ε))"):
             spread((ages < life).astype(float)) if var == 0 else None,
         at_lifetime:
             spread((ages <= life).astype(float)) if var == 0 else None,
         escalate("the lifetime is not a whole number of frames: do not round it",
-         "a particle is counted at every age m·dt below its lifetime, however close the "
-         "lifetime is to a whole number of frames"):
+                 "a particle is counted at every age m·dt below its lifetime, however close the "
+                 "lifetime is to a whole number of frames"):
             spread((ages < np.round(life / dt) * dt * (1 - 1e-12)).astype(float)) if var == 0 else None,
         escalate("a particle emitted in frame k has lived j - k + 1 steps when counted after frame j "
-         "(it is stepped in its own frame)",
-         "count ages (j - k + 1) dt: the convolution of the counts with S(dt), S(2 dt), ..., "
-         "not S(0), S(dt), ..."): spread(particles.survival(ages - dt, life, var)),
+                 "(it is stepped in its own frame)",
+                 "count ages (j - k + 1) dt: the convolution of the counts with S(dt), S(2 dt), ..., "
+                 "not S(0), S(dt), ..."): spread(particles.survival(ages - dt, life, var)),
         escalate("a particle is counted at the end of a frame, when it has lived a whole number of steps",
-         "its ages when counted are dt, 2 dt, ...: not half a step less"):
+                 "its ages when counted are dt, 2 dt, ...: not half a step less"):
             spread(particles.survival(ages - 0.5 * dt, life, var)),
         escalate("the lifetimes are spread over [L - V, L + V]: not every particle lives exactly L",
-         "S(a), the chance that a lifetime exceeds a, falls linearly from 1 at a = L - V to 0 "
-         "at a = L + V"):
+                 "S(a), the chance that a lifetime exceeds a, falls linearly from 1 at a = L - V to 0 "
+                 "at a = L + V"):
             spread((ages < life).astype(float)) if var else None,
         escalate("nobody dies in your answer: the population only ever grows",
-         "weight each past frame's count by the chance that its particles are still alive"):
+                 "weight each past frame's count by the chance that its particles are still alive"):
             np.cumsum(mu),
         escalate("rate × mean lifetime is the long-run value for a constant rate, not the population "
-         "of every frame", "convolve the counts with the survival function"):
+                 "of every frame", "convolve the counts with the survival function"):
             mu * life / dt,
         escalate("the long-run value, less half a frame, holds for a constant rate once it has settled, "
-         "not for every frame", "convolve the counts with the survival function"):
+                 "not for every frame", "convolve the counts with the survival function"):
             mu * (life / dt - 0.5),
         escalate("the lifetimes are spread uniformly over [L - V, L + V], 2V wide",
-         "S(a) falls linearly from 1 at a = L - V to 0 at a = L + V"):
+                 "S(a) falls linearly from 1 at a = L - V to 0 at a = L + V"):
             spread(np.clip((life + var - ages) / var, 0, 1)) if var else None,
         first_frames: np.convolve(mu, particles.survival(ages, life, var))[n - 1:],
         (first_frames[0] + " (mode=\"same\" keeps the middle of it)", first_frames[1]):

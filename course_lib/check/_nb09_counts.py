@@ -115,14 +115,14 @@ def count_variance_hint(draws) -> Hint:
     up to 1/6 to the variance of each."""
     if all(counts.std() < 0.3 * v / np.sqrt(3) for (_, v, _), counts, _ in draws):
         return escalate("the count hardly varies: is a new random number drawn every frame?",
-                "draw a new count every frame: mean + variance × rng.uniform(-1, 1)")
+                        "draw a new count every frame: mean + variance × rng.uniform(-1, 1)")
     rules = {
         escalate("rng.random() spans [0, 1), half of U(-1, 1): the spread is halved",
-         "mean + variance × U(-1, 1) with U = rng.uniform(-1, 1): a spread of the whole width"):
+                 "mean + variance × U(-1, 1) with U = rng.uniform(-1, 1): a spread of the whole width"):
             lambda v: v * v / 12,
         escalate("Reeves' variance is the half-width of the spread, not the statistical variance: do not "
-         "take its square root", "mean + variance × U(-1, 1): the count's standard deviation is "
-         "then variance/√3"): lambda v: v / 3,
+                 "take its square root", "mean + variance × U(-1, 1): the count's standard deviation is "
+                 "then variance/√3"): lambda v: v / 3,
     }
     for hint, spread in rules.items():
         if all(0.8 * spread(v) <= counts.var() <= 1.2 * (spread(v) + 1 / 6)
@@ -141,6 +141,6 @@ def range_hint(outside) -> Hint:
     if outside and all(_cases.flat(c) for c in outside):
         return _cases.WIDTH_HINT
     return escalate("Reeves' count is never outside [mean - variance, mean + variance]: is your "
-            "random number bounded?",
-            "Reeves' count is mean + variance × U(-1, 1) with U uniform (rng.uniform(-1, 1)), "
-            "not a normal draw: it never leaves [mean - variance, mean + variance]")
+                    "random number bounded?",
+                    "Reeves' count is mean + variance × U(-1, 1) with U uniform (rng.uniform(-1, 1)), "
+                    "not a normal draw: it never leaves [mean - variance, mean + variance]")

@@ -140,8 +140,8 @@ GRID_MORE = ("with cells of side radius a point has about 9ρR² candidates what
              "the region's shape (ρ the density): compare each point only with the points of its "
              "own and the 8 neighbouring cells")
 TABLE_HINT = escalate("that is an N × N table: bin the points into cells instead",
-              "an N × N table of distances grows as N²: bin the points into cells of side radius "
-              "and compare each point only with the points of its own and the neighbouring cells")
+                      "an N × N table of distances grows as N²: bin the points into cells of side radius "
+                      "and compare each point only with the points of its own and the neighbouring cells")
 
 
 def _sweep_hint(x: np.ndarray) -> tuple[str, str]:
@@ -242,23 +242,23 @@ def ring_mistakes(n: int, ws: float, wc: float, r: float) -> list:
     chords = np.sum(1.0 / (2.0 * np.sin(np.pi * np.arange(1, n) / n)))   # Σ r/|d| over neighbours
     return [
         (escalate("that is the pair's radius for every n: with n boids each one feels n - 1 pushes, and "
-          "cohesion pulls towards the centre of the other n - 1",
-          "add up the radial parts of the n - 1 pushes and set them against the pull of cohesion "
-          "towards the centre of the other n - 1 boids"), pair),
+                  "cohesion pulls towards the centre of the other n - 1",
+                  "add up the radial parts of the n - 1 pushes and set them against the pull of cohesion "
+                  "towards the centre of the other n - 1 boids"), pair),
         (escalate("that is a distance between two boids: the exercise asks for the radius of their circle",
-          "return r, the circle's radius; neighbours are 2 r sin(π/n) apart"), 2 * pair),
+                  "return r, the circle's radius; neighbours are 2 r sin(π/n) apart"), 2 * pair),
         (escalate("that is the distance to the nearest neighbour: return the circle's radius",
-          "return r, the circle's radius; neighbours are 2 r sin(π/n) apart"),
+                  "return r, the circle's radius; neighbours are 2 r sin(π/n) apart"),
          2 * r * np.sin(np.pi / n)),
         (ALL_N_HINT, np.sqrt(ws * (n - 1) / (2 * wc))),
         (NO_HALF_HINT, np.sqrt(ws * (n - 1) ** 2 / (n * wc))),
         (escalate("only the radial part of each push survives: the sideways parts cancel in pairs, so "
-          "adding the pushes' full sizes 1/|d| overcounts",
-          "a chord of length |d| points |d|/(2r) of its length towards the centre, so the radial "
-          "part of d/|d|² is 1/(2r), the same for every neighbour"),
+                  "adding the pushes' full sizes 1/|d| overcounts",
+                  "a chord of length |d| points |d|/(2r) of its length towards the centre, so the radial "
+                  "part of d/|d|² is 1/(2r), the same for every neighbour"),
          np.sqrt(ws * (n - 1) * chords / (n * wc)) if n > 2 else None),
         (escalate("check the units: w_s is in m²/s² and w_c in 1/s², and the radius in m",
-          "you returned r²: take the square root"), r * r),
+                  "you returned r²: take the square root"), r * r),
     ]
 
 

@@ -56,7 +56,7 @@ def _radius_hint(draws) -> Hint:
                 "the particles sit on the rim: that is a ring, not a disc; draw r = R √u")
     if all(o < 0.01 for o in outer):
         return escalate("no particle reaches the rim: is the square root taken of the right thing?",
-                "r = R √u reaches R when u reaches 1; √(R u) stops at √R")
+                        "r = R √u reaches R when u reaches 1; √(R u) stops at √R")
     return None
 
 
@@ -67,11 +67,11 @@ def _disc_hint(pts, radius) -> Hint:
                         "draw a radius and an angle")
     if radius < 1 and abs(np.hypot(*pts.T).max() - np.sqrt(radius)) < 0.01 * radius:
         return escalate(f"the farthest particle is at √R = {np.sqrt(radius):.3f}, not R = {radius:g}: is the "
-                "square root taken of R u instead of u?", "r = R √u reaches R when u reaches 1; "
-                "√(R u) reaches √R, beyond R when R < 1")
+                        "square root taken of R u instead of u?", "r = R √u reaches R when u reaches 1; "
+                        "√(R u) reaches √R, beyond R when R < 1")
     return escalate("some particles land outside the disc: can your radius exceed `radius`?",
-            "draw the radius so that it never exceeds R (r = R √u with u = rng.random(k)) and "
-            "the angle over a full turn")
+                    "draw the radius so that it never exceeds R (r = R √u with u = rng.random(k)) and "
+                    "the angle over a full turn")
 
 
 @exercise(allow=())
@@ -146,9 +146,9 @@ def emit(ck: Checker, func) -> None:
                       f"a frame; independent particles stay below {_cases.CHI2_LIMIT:.0f} in all but "
                       "one run in a million",
                       hint=escalate("the particles of one frame depend on each other: does each particle get "
-                            "its own random numbers?",
-                            "draw the k radii and the k angles at once (rng.random(k)), one of each per "
-                            "particle; do not share, sort or space them out"))
+                                    "its own random numbers?",
+                                    "draw the k radii and the k angles at once (rng.random(k)), one of "
+                                    "each per particle; do not share, sort or space them out"))
     n_pts = area.size
     se = np.sqrt(0.25 * 0.75 / n_pts)
     inner, outer = np.mean(area < 0.25), np.mean(area > 0.81)
@@ -162,15 +162,15 @@ def emit(ck: Checker, func) -> None:
     ck.expect(np.all(np.abs(quadrants - 0.25) < 4 * se), "all directions are equally likely",
               f"fractions in the first and third quadrants: {quadrants.round(3)}",
               hint=escalate("the angle does not cover a full turn evenly",
-                    "draw the angle uniformly over a full turn, rng.uniform(0, 2π)"))
+                            "draw the angle uniformly over a full turn, rng.uniform(0, 2π)"))
     stat = _cases.dependence(area, turn)
     ck.expect(stat < _cases.CHI2_LIMIT, "radius and angle are independent (χ² on a 4 × 4 table)",
               f"χ² = {stat:.0f} on the table of r²/R² against the angle, with 9 degrees of freedom; "
               f"independent ones stay below {_cases.CHI2_LIMIT:.0f} in all but one run in a million",
               hint=None if not apart else
               escalate("the radius and the angle move together: are they drawn from the same random numbers?",
-               "draw the radii and the angles from separate calls to rng: one u used for "
-               "both r = R√u and θ = 2πu puts every particle on one spiral"))
+                       "draw the radii and the angles from separate calls to rng: one u used for "
+                       "both r = R√u and θ = 2πu puts every particle on one spiral"))
 
 
 # --- the expire step ---------------------------------------------------------------------
@@ -205,8 +205,8 @@ def _expire_hint(data: dict, n: int, work: dict, m: int, expected: dict) -> Hint
     if not found and m == survivors and wrong and all(
             _same_rows(work[k][:survivors], expected[k]) for k in data):
         return escalate("keep the survivors in their original order",
-                f"every survivor is there, but the rows of {wrong} are in another order: gather "
-                "them with the boolean mask, which keeps the order of the rows it selects")
+                        f"every survivor is there, but the rows of {wrong} are in another order: gather "
+                        "them with the boolean mask, which keeps the order of the rows it selects")
     if not found and m == survivors and len(wrong) < len(data):
         return f"move the rows of every attribute, not only some: wrong in {wrong}"
     return None
@@ -239,9 +239,9 @@ def expire(ck: Checker, func) -> None:
             ck.expect(False, what, f"your function ran more than {_EXPIRE_LINES} lines of Python "
                       f"on {n} particles: it loops over the particles",
                       hint=escalate("no loop over particles: one boolean mask of the survivors, then one "
-                            "gather per array",
-                            "build the mask of the survivors once; then, for every array in data, "
-                            "copy the rows where the mask is True to the front in one operation"))
+                                    "gather per array",
+                                    "build the mask of the survivors once; then, for every array in data, "
+                                    "copy the rows where the mask is True to the front in one operation"))
             continue
         if any(work[k] is not arrays[k] for k in arrays):
             ck.expect(False, what, "your function replaced arrays in `data` by new ones",
@@ -281,9 +281,9 @@ def expected_population(ck: Checker, func) -> None:
                       mistakes=_cases.wrong_populations(mu, dt, life, var, at_lifetime) if named else None,
                       hint=None if not named else
                       escalate("check the survival function at a few ages by hand",
-                       "write S(a), the chance that a particle is still alive at age a (for V > 0 "
-                       "and for V = 0); then add up, for every earlier frame, its count times S "
-                       "at the age its particles have when they are counted"))
+                               "write S(a), the chance that a particle is still alive at age a (for V > 0 "
+                               "and for V = 0); then add up, for every earlier frame, its count times S "
+                               "at the age its particles have when they are counted"))
         spread_right = spread_right and (right or var == 0)
         # a case that counting the age L itself (a <= L) alone explains names it first in the
         # later cases, where summed ages would give the same numbers

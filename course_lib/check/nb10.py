@@ -70,11 +70,11 @@ def _close_rows(ck: Checker, got, expected, bound, what, mistakes) -> None:
     relative = off.max() / scale
     if hint is None and relative < 1e-6:        # right to many digits, not to round-off
         hint = escalate(f"your pushes agree with the rule to {relative:.0e} of the largest, but round-off "
-                f"leaves them within {bound.max() / scale:.0e}: is something added to |d|², such as "
-                "a guard ε against a division by zero?",
-                "a boid at the same point as another is not its neighbour (Section 1), so no pair "
-                "has d = 0 and the rule needs no guard; a guard such as |d|² + 1e-12 changes "
-                "every push (np.maximum(|d|², 1e-300) would leave real pairs untouched)")
+                        f"leaves them within {bound.max() / scale:.0e}: is something added to |d|², such as "
+                        "a guard ε against a division by zero?",
+                        "a boid at the same point as another is not its neighbour (Section 1), so no pair "
+                        "has d = 0 and the rule needs no guard; a guard such as |d|² + 1e-12 changes "
+                        "every push (np.maximum(|d|², 1e-300) would leave real pairs untouched)")
     ck.expect(False, what, f"boid {k}: expected {expected[k].round(6)}, got {got[k].round(6)}, off by "
               f"{off[k].max():.1e} where round-off allows {bound[k].max():.0e} "
               f"({int(beyond.sum())} of {len(got)} boids beyond round-off)", hint=hint)
@@ -98,16 +98,17 @@ def separation(ck: Checker, func) -> None:
             ("sign: separation pushes boid i away from j", "sign: separation pushes boid i "
              "away from j, along -d_ij (d_ij = x_j - x_i)"): -expected,
             escalate("the push must grow as two boids close in: what is its size at distance |d|?",
-             "divide by |d|², not |d|: d/|d|² is a push of size 1/|d|"):
+                     "divide by |d|², not |d|: d/|d|² is a push of size 1/|d|"):
                 -_cases.scatter(i, d / np.sqrt(r2)[:, None], n),
             escalate("d/|d|³ is a push of size 1/|d|²; the rule's push has size 1/|d|",
-             "the rule is d/|d|², a push of size 1/|d|"): -_cases.scatter(i, d / (r2 ** 1.5)[:, None], n),
+                     "the rule is d/|d|², a push of size 1/|d|"):
+                -_cases.scatter(i, d / (r2 ** 1.5)[:, None], n),
             ("sum over the neighbours, do not average: more crowding must push harder",
              "sum over the neighbours, do not average: more crowding must push harder"):
                 expected / count,
             escalate("with repeated indices in i, S[i] -= w applies each index only once (NumPy "
-             "buffers fancy-index updates)", "use np.add.at(S, i, -w) or np.bincount(i, weights) "
-             "per column: both add every pair"): last,
+                     "buffers fancy-index updates)", "use np.add.at(S, i, -w) or np.bincount(i, weights) "
+                     "per column: both add every pair"): last,
             ("accumulate at i, the boid that sees its neighbour j, not at j",
              "accumulate at i, the boid that sees its neighbour j, not at j"): -_cases.scatter(j, w, n),
         }
@@ -131,7 +132,7 @@ def separation(ck: Checker, func) -> None:
         if got.ndim == 2 and got.shape[1:] == (2,) and got.shape[0] == i.max() + 1 < n:
             ck.expect(False, what, f"expected one row per boid, shape ({n}, 2), got {got.shape}",
                       hint=escalate("the last boids may appear in no pair: size S by n, not by i",
-                            "np.zeros((n, 2)): a boid without neighbours still has a row (of zeros)"))
+                                    "np.zeros((n, 2)): a boid without neighbours still has a row (of zeros)"))
             continue
         if got.shape == d.shape and d.shape != (n, 2):
             ck.expect(False, what, f"expected one row per boid, shape ({n}, 2), got {got.shape}",
@@ -171,10 +172,10 @@ def ring_radius(ck: Checker, func) -> None:
             hint = "close, but not to round-off: if you solve for r numerically, converge to 1e-10"
         ck.expect(False, what, "expected {} m, got {} m".format(*apart(float(expected), value)),
                   hint=hint or escalate("start from a pair: w_s/d = w_c d, with d = 2r; then add neighbours "
-                                "one at a time and keep only what points along the radius",
-                                "by symmetry only radial parts survive: each neighbour pushes "
-                                "outwards with the radial part of d/|d|², and cohesion pulls "
-                                "inwards towards the centre of the other n - 1 boids"))
+                                        "one at a time and keep only what points along the radius",
+                                        "by symmetry only radial parts survive: each neighbour pushes "
+                                        "outwards with the radial part of d/|d|², and cohesion pulls "
+                                        "inwards towards the centre of the other n - 1 boids"))
 
 
 # --- a neighbour search with a uniform grid ---------------------------------------------
@@ -261,21 +262,21 @@ def neighbour_pairs(ck: Checker, func) -> None:
                           "and the copy (j, i) of every pair (i, j)",))
         elif selves:
             wrong.append(escalate("a point is paired with itself",
-                          "a point is not its own neighbour: keep pairs with i != j"))
+                                  "a point is not its own neighbour: keep pairs with i != j"))
         elif reversed_ and not repeated:
             wrong.append(escalate("each pair once, with i < j", "return each pair as (i, j) with i < j"))
         elif reversed_:
             wrong.append(escalate("each pair once, with i < j", "keep the pairs with i < j: (i, j) and "
-                          "(j, i) are the same pair"))
+                                  "(j, i) are the same pair"))
         elif repeated:
             wrong.append(escalate("some pairs appear twice: each pair once",
-                          "a pair met from both of its cells is listed twice: keep i < j, or "
-                          "visit only half of the neighbouring cells"))
+                                  "a pair met from both of its cells is listed twice: keep i < j, or "
+                                  "visit only half of the neighbouring cells"))
         missing, extra = expected - found, found - expected
         if not wrong and extra:
             wrong.append(escalate("some pairs you return are farther apart than the radius",
-                          "a shared or neighbouring cell is not enough: test |d|² <= radius² "
-                          "for every candidate pair"))
+                                  "a shared or neighbouring cell is not enough: test |d|² <= radius² "
+                                  "for every candidate pair"))
         detail = (f"{len(found & expected)} of {len(expected)} pairs found, {len(extra)} not pairs"
                   f"{f' (a point with itself: {selves})' if selves else ''}, {repeated} repeated")
         if wrong:
