@@ -315,8 +315,7 @@ def random_polarization(n: int) -> float:
 def random_nearest_distance(n: int, box: float) -> float:
     """Exact mean nearest-neighbour distance (m) of ``n`` uniform random points in a
     periodic square of side ``box`` (``n >= 2``): ``∫ (1 − π r²/A)^{n−1} dr`` over ``r <= box/2``
-    (where the disc fits; the chance that no neighbour is nearer, (1 − π/4)^{n−1}, is
-    1.4e-200 for n = 300, so the cut changes nothing a float can hold); with
+    (where the disc fits; the chance of no neighbour nearer, (1 − π/4)^{n−1}, is 1e-200 at n = 300); with
     ``u = π r²/A``, ``½ √(A/π) B(½, n) I_{π/4}(½, n)``, close to ``1/(2√ρ)`` for large ``n``."""
     n, area = positive_int("n", n), positive_finite("box", box) ** 2
     if n < 2:
