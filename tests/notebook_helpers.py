@@ -49,3 +49,23 @@ def printed_holds(value: float, fmt: str, text: str, spread: float) -> None:
         assert format(moved, fmt) == text, (
             f"{value!r} prints {text!r} here, but another rounding within ±{spread:g} "
             f"would print {format(moved, fmt)!r}: print fewer digits")
+
+
+def cpu_only_clock(what: str = "the timing"):
+    """A stand-in ``time`` module for running a notebook's timing cell: ``process_time``
+    works and counts its reads, every wall clock raises. Returns ``(clock, reads)``."""
+    import time
+    import types
+
+    reads: list[int] = []
+
+    def process_time():
+        reads.append(1)
+        return time.process_time()
+
+    def wall(*_):
+        raise AssertionError(f"{what} read a wall clock")
+
+    clock = types.SimpleNamespace(process_time=process_time, perf_counter=wall, time=wall,
+                                  monotonic=wall, perf_counter_ns=wall, time_ns=wall)
+    return clock, reads

@@ -5,12 +5,10 @@ from __future__ import annotations
 
 import contextlib
 import io
-import time
-import types
 
 import numpy as np
 import pytest
-from notebook_helpers import ROOT, markdown, read
+from notebook_helpers import ROOT, cpu_only_clock, markdown, read
 
 import course_lib as cl
 from course_lib.lessons import nb04_beyond_euler as lesson
@@ -41,17 +39,7 @@ def timing_run():
     namespace, its printout and the number of process_time reads."""
     cells = _cells("cpu_per_step(")
     assert len(cells) == 1
-    calls = []
-
-    def process_time():
-        calls.append(1)
-        return time.process_time()
-
-    def wall(*_):
-        raise AssertionError("the timing read a wall clock")
-
-    clock = types.SimpleNamespace(process_time=process_time, perf_counter=wall, time=wall,
-                                  monotonic=wall, perf_counter_ns=wall, time_ns=wall)
+    clock, calls = cpu_only_clock("the timing")
     fewest = {(m, 1e-4): lesson.cost_study([m], [n])[0] for m, n in FEWEST.items()}
     ns = {"np": np, "cl": cl, "lesson": lesson, "METHOD_LABELS": METHOD_LABELS,
           "stiff_methods": list(STIFF), "fewest": fewest}

@@ -3,12 +3,10 @@ rounding of Exercise 1's count."""
 
 import contextlib
 import io
-import time
-import types
 
 import numpy as np
 import pytest
-from notebook_helpers import ROOT, markdown, read
+from notebook_helpers import ROOT, cpu_only_clock, markdown, read
 from scipy import stats
 
 from course_lib import particles as P
@@ -39,17 +37,7 @@ def test_cost_cell_times_cpu_and_structure_of_arrays_is_over_ten_times_faster():
     time with time.process_time, best of three, and the structure of arrays must do the
     frame more than ten times faster than either list (a ratio of CPU times, which a loaded
     machine moves little: 35 to 90 measured with other work running)."""
-    calls = []
-
-    def process_time():
-        calls.append(1)
-        return time.process_time()
-
-    def wall(*_):
-        raise AssertionError("the cost cell read a wall clock")
-
-    clock = types.SimpleNamespace(process_time=process_time, perf_counter=wall, time=wall,
-                                  monotonic=wall, perf_counter_ns=wall, time_ns=wall)
+    clock, calls = cpu_only_clock("the cost cell")
     ns = {"np": np, "particles": P, "time": clock}
     with contextlib.redirect_stdout(io.StringIO()) as out:
         exec(compile(_cell("def best_of("), "<cost cell>", "exec"), ns)
