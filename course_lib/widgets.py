@@ -136,6 +136,9 @@ class ExplorerView:
         self.result = self.compute(**self.params)
         with plt.ioff():
             self.figure = self.draw(self.result)
+        if hasattr(self.draw, "png"):          # a kept figure (BlitPlot): redraws what changed
+            self.image.value = self.draw.png()
+            return
         if _in_kernel():
             self.image.value = figure_png(self.figure)
         else:
@@ -210,30 +213,63 @@ def png_of(fig) -> bytes:
 
 
 class BlitPlot:
-    """A figure whose axes never change: :meth:`render` draws everything once, keeps that
-    picture, and afterwards redraws only the artists in :attr:`dynamic` over it."""
+    """A kept figure redrawn in part: :meth:`render` draws everything once, keeps that
+    picture (the background), and afterwards redraws only the artists in :attr:`dynamic`
+    over it.
+
+    The background is drawn again when :meth:`background_key` changes: the canvas size,
+    every axes' limits and scales, and :attr:`static_key`, which a subclass sets to what
+    else its background shows that may change (legend labels, a colour). A widget whose
+    axes rescale keeps its limits from :func:`nice_limits`, so a small change of the data
+    keeps the background.
+    """
 
     def __init__(self, fig, blit: bool):
         self.fig, self.blit = fig, blit
         self.dynamic: list = []
+        self.static_key = None
         self._background = None
+        self._key = None
+
+    def background_key(self) -> tuple:
+        """What the kept background depends on (hashable, compared between updates)."""
+        axes = tuple((ax.get_xlim(), ax.get_ylim(), ax.get_xscale(), ax.get_yscale())
+                     for ax in self.fig.axes)
+        return self.fig.canvas.get_width_height(), axes, self.static_key
 
     def render(self) -> None:
+        """Draw the figure on its Agg canvas (with :attr:`blit`, only what changed)."""
         canvas = self.fig.canvas
         if not self.blit:
             canvas.draw()
             return
-        if self._background is None or self._size != canvas.get_width_height():
+        key = self.background_key()
+        if self._background is None or key != self._key:
             for artist in self.dynamic:
                 artist.set_animated(True)
             canvas.draw()
             self._background = canvas.copy_from_bbox(self.fig.bbox)
-            self._size = canvas.get_width_height()
+            self._key = key
         else:
             canvas.restore_region(self._background)
         for artist in self.dynamic:
             self.fig.draw_artist(artist)
 
     def png(self) -> bytes:
+        """Render (see :meth:`render`) and return the figure as PNG bytes."""
         self.render()
         return png_of(self.fig)
+
+
+def nice_limits(lo: float, hi: float, log: bool = False, nbins: int = 5) -> tuple[float, float]:
+    """Axis limits around ``[lo, hi]`` at round values: outer ticks of a
+    ``MaxNLocator(nbins)`` (linear), or whole decades (``log``; ``lo`` > 0). A small
+    change of the data keeps them, so a blitted background stays valid."""
+    if log:
+        return 10.0 ** np.floor(np.log10(lo)), 10.0 ** np.ceil(np.log10(hi))
+    from matplotlib.ticker import MaxNLocator
+
+    ticks = MaxNLocator(nbins).tick_values(lo, hi)
+    below, above = ticks[ticks <= lo], ticks[ticks >= hi]
+    return (float(below.max()) if below.size else float(lo),
+            float(above.min()) if above.size else float(hi))
