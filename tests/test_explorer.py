@@ -255,7 +255,7 @@ def test_draw_static_figure_has_labelled_panels():
 
 
 def test_blitted_picture_matches_a_full_redraw():
-    fast, full = exv.ExperimentPlot(blit=True), exv.ExperimentPlot()
+    fast, full = exv.ExperimentPlot(blit=True), exv.ExperimentPlot(snap=True)
     for args in [("decay", "forward_euler", 2.1), ("oscillator", "rk4", 2.9),
                  ("oscillator", "velocity_verlet", 1.0), ("decay", "rk4", 0.5)]:
         r = ex.run_experiment(*args)
@@ -265,6 +265,42 @@ def test_blitted_picture_matches_a_full_redraw():
         b = np.asarray(Image.open(io.BytesIO(full.png()))).astype(int)
         assert a.shape == b.shape
         assert np.mean(np.any(a != b, axis=-1)) < 2e-3  # antialiasing at a few edges only
+
+
+def test_nice_limits_contain_the_data_at_round_values():
+    from course_lib.widgets import nice_limits
+
+    rng = np.random.default_rng(2026)
+    for lo, span in zip(rng.uniform(-50, 50, 200), 10 ** rng.uniform(-6, 4, 200), strict=True):
+        a, b = nice_limits(lo, lo + span)
+        assert a <= lo and b >= lo + span and b - a <= 3 * span      # contains, not far off
+        a, b = nice_limits(span, 7 * span, log=True)
+        assert a <= span and b >= 7 * span and b <= 100 * span
+        assert np.log10(a) == pytest.approx(round(np.log10(a)), abs=1e-9)  # whole decades
+
+
+def test_widget_keeps_its_background_over_small_steps_and_redraws_when_limits_change():
+    """Driven through the slider: the kept background is reused over small changes of dt,
+    redrawn when a limit changes, and every picture equals a full redraw of the result;
+    the panels' limits hold the run."""
+    view = exv.stability_explorer()
+    full = exv.ExperimentPlot(snap=True)
+    draws, canvas = [], view.draw.fig.canvas
+    real_draw = canvas.draw
+    canvas.draw = lambda: (draws.append(1), real_draw())[1]
+    for dt in (0.5, 0.505, 0.51, 0.515, 1.9, 2.1, 0.02):
+        view.controls["dt"].value = dt
+        r = view.result
+        full(r)
+        a = np.asarray(Image.open(io.BytesIO(view.image.value))).astype(int)
+        b = np.asarray(Image.open(io.BytesIO(full.png()))).astype(int)
+        assert np.mean(np.any(a != b, axis=-1)) < 2e-3, dt
+        ax_t, ax_n = view.draw.ax_t, view.draw.ax_n
+        assert ax_t.get_xlim()[1] >= r.t_end and ax_n.get_xlim()[1] >= r.size.size - 1
+        lo, hi = ax_n.get_ylim()
+        shown = r.size[: (r.blowup_step or r.size.size - 1) + 1]
+        assert lo <= shown.min() and hi >= shown.max()
+    assert len(draws) <= 4      # three small steps reuse the background; 1.9, 2.1, 0.02 do not
 
 
 def test_bad_choices_raise():

@@ -4,15 +4,16 @@
 in three panels: the run beside the exact solution, its size per step on a log scale
 (where ``|R|^n`` is a straight line and an unstable run stays in view), and ``z = λ dt``
 on the method's stability region. It makes its artists once and afterwards only updates
-their data; with ``blit=True`` it also keeps a picture of what never changes (the region,
-its axes) and redraws the rest. :func:`draw_experiment` makes a static picture.
+their data; with ``blit=True`` (the widget) it keeps a picture of the axes, ticks, legend
+and region and redraws only the runs, markers and titles over it, and its limits are
+rounded outward (:func:`~course_lib.widgets.nice_limits`) so that a small change of the
+step keeps that picture. :func:`draw_experiment` makes a static picture.
 
 Imports the lesson's computation and regions, the view helpers and matplotlib.
 """
 
 from __future__ import annotations
 
-import io
 import textwrap
 
 import matplotlib.pyplot as plt
@@ -21,6 +22,8 @@ from matplotlib.ticker import LogLocator, MaxNLocator, MultipleLocator, NullLoca
 
 from ..integrators import NEWTONIAN_METHODS
 from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS, detached_figure
+from ..widgets import BlitPlot, nice_limits
+from .nb03_problems import default_t_end
 from .nb03_regions import REGION_WINDOW, draw_region
 from .nb03_stability import ExperimentResult, _fmt_factor
 
@@ -44,7 +47,7 @@ def _fmt_complex(z: complex) -> str:
     return f"{z.real:.3g}{z.imag:+.3g}i"
 
 
-class ExperimentPlot:
+class ExperimentPlot(BlitPlot):
     """The explorer's figure, redrawn in place; call it with a result to update it.
 
     Parameters
@@ -53,14 +56,18 @@ class ExperimentPlot:
         Figure to draw into; by default a new one with an Agg canvas, outside pyplot
         (the notebook's inline backend never shows it by itself).
     blit : bool
-        For :meth:`png`: keep a picture of what does not change with the run (the
-        stability region, its axes and ticks) and redraw only the rest on each update.
+        For :meth:`png`: keep a picture of what changes only with the limits, the method
+        or the problem (axes, ticks, legend, the stability region) and redraw only the
+        rest on each update (:class:`~course_lib.widgets.BlitPlot`).
+    snap : bool, optional
+        Round the limits of the run's panels outward (default: as ``blit``).
     """
 
-    def __init__(self, fig=None, *, blit: bool = False):
+    def __init__(self, fig=None, *, blit: bool = False, snap: bool | None = None):
         if fig is None:
             fig = detached_figure(FIGSIZE)
-        self.fig = fig
+        super().__init__(fig, blit)
+        self.snap = blit if snap is None else snap
         self.ax_t, self.ax_n, self.ax_z = fig.subplots(
             1, 3, gridspec_kw={"width_ratios": [1.25, 1.0, 0.95]})
         ax_t, ax_n, ax_z = self.ax_t, self.ax_n, self.ax_z
@@ -105,9 +112,11 @@ class ExperimentPlot:
         self._region_method: str | None = None
         self._legend_key = None
         self._legend = None
-        self.blit = blit
-        self._background = None
-        self._background_key = None
+        # drawn over the kept background, in the order of a full redraw (lines, then texts)
+        self.dynamic = [self.exact_line, self.num_line, self.blow_marker, self.na_text,
+                        self.more_text, self.size_exact, self.size_line, self.size_marker,
+                        self.bound_line, self.z_marker, self.z_arrow, self.title_t,
+                        self.title_z, self.verdict_text]
 
     def _set_region(self, method: str) -> None:
         if method == self._region_method:
@@ -168,10 +177,14 @@ class ExperimentPlot:
             finite = size[np.isfinite(size) & (size > 0)]
             # Zoomed on the run: the exact decay may leave through the bottom.
             lo = max(1e-300, min(finite.min(), 1.0) / 10)
-            hi = max(finite.max(), r.bound, 1.0) * 3
+            hi = min(max(finite.max(), r.bound, 1.0) * 3, 1e300)
             self.bound_line.set_ydata([r.bound, r.bound])
+            last = size.size - 1
+            if self.snap:        # whole decades; round, past the most steps near this dt
+                lo, hi = nice_limits(lo, hi, log=True)
+                last = nice_limits(0, max(last, self._span(r) / r.dt), nbins=10)[1]
             self.ax_n.set_ylim(lo, hi)
-            self.ax_n.set_xlim(0, size.size - 1)
+            self.ax_n.set_xlim(0, last)
             self.na_text.set_text("")
             more = blow is not None and r.last_finite > blow
             self.more_text.set_text("the run goes on: see the log plot →" if more else "")
@@ -187,15 +200,26 @@ class ExperimentPlot:
         else:
             self.blow_marker.set_data([], [])
             self.size_marker.set_data([], [])
-        self.ax_t.set_xlim(0.0, r.t_end)
-        self.ax_t.set_ylim(-1.15 * top, 1.15 * top)
+        t_end, top = r.t_end, 1.15 * top
+        if self.snap:
+            t_end = nice_limits(0, max(t_end, self._span(r)), nbins=20)[1]
+            top = nice_limits(0, top, nbins=10)[1]
+        self.ax_t.set_xlim(0.0, t_end)
+        self.ax_t.set_ylim(-top, top)
         self._set_legend(r)
         status = "stable" if r.stable else ("not applicable" if not r.applicable else "UNSTABLE")
         symbol = "k" if r.problem == "decay" else "ω"
         self.title_t.set_text(f"{name}, dt = {r.dt:.3g} s, {symbol} = {r.rate:.3g} /s: {status}")
         self._draw_z(r, name)
         self.verdict_text.set_text(textwrap.fill(r.verdict, 135))
+        self.static_key = (self._region_method, self._legend_key)
         return self.fig
+
+    @staticmethod
+    def _span(r: ExperimentResult) -> float:
+        """The longest run (s) at steps near ``r.dt``: ``n = round(T / dt)`` steps of the
+        explorer's span ``T`` end before ``T + dt/2``, so limits past it hold."""
+        return default_t_end(r.problem, r.rate) + 0.5 * r.dt
 
     def _draw_z(self, r: ExperimentResult, name: str) -> None:
         self._set_region(r.method)
@@ -219,40 +243,6 @@ class ExperimentPlot:
             self.z_arrow.set_visible(True)
         shape = "(segment)" if r.method in NEWTONIAN_METHODS else "(shaded)"
         self.title_z.set_text(f"{name}: stable set {shape}\n{zlabel}")
-
-
-    def _dynamic(self) -> list:
-        """What changes with every update: drawn over the cached background."""
-        return [self.ax_t, self.ax_n, self.z_marker, self.z_arrow, self.title_z,
-                self.verdict_text]
-
-    def render(self) -> None:
-        """Draw the figure on its Agg canvas (with :attr:`blit`, only what changed)."""
-        canvas = self.fig.canvas
-        if not self.blit:
-            canvas.draw()
-            return
-        key = (self._region_method, self._legend_key, canvas.get_width_height())
-        if key != self._background_key:
-            for artist in self._dynamic():
-                artist.set_animated(True)
-            canvas.draw()
-            self._background = canvas.copy_from_bbox(self.fig.bbox)
-            self._background_key = key
-        else:
-            canvas.restore_region(self._background)
-        for artist in self._dynamic():
-            self.fig.draw_artist(artist)
-
-    def png(self) -> bytes:
-        """Render the figure (see :meth:`render`) and encode it as PNG (fast compression)."""
-        from PIL import Image
-
-        self.render()
-        buffer = io.BytesIO()
-        rgba = np.asarray(self.fig.canvas.buffer_rgba())
-        Image.fromarray(rgba).save(buffer, format="png", compress_level=1)
-        return buffer.getvalue()
 
 
 def draw_experiment(result: ExperimentResult, fig=None):
