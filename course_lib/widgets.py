@@ -221,15 +221,32 @@ class BlitPlot:
     every axes' limits and scales, and :attr:`static_key`, which a subclass sets to what
     else its background shows that may change (legend labels, a colour). A widget whose
     axes rescale keeps its limits from :func:`nice_limits`, so a small change of the data
-    keeps the background.
+    keeps the background (:meth:`limits`).
     """
 
     def __init__(self, fig, blit: bool):
         self.fig, self.blit = fig, blit
+        self.round_limits = blit
         self.dynamic: list = []
         self.static_key = None
         self._background = None
         self._key = None
+        self._limits: dict = {}
+
+    def limits(self, ax, which: str, lo: float, hi: float, log: bool = False,
+               nbins: int = 5) -> tuple[float, float]:
+        """Limits of ``ax``'s ``which`` axis (``"x"`` or ``"y"``) to show ``[lo, hi]``: as
+        given, or with :attr:`round_limits` (the widget) rounded outward
+        (:func:`nice_limits`), the previous ones kept while they still fit on the same
+        scale. Sets them and returns them."""
+        if self.round_limits:
+            scale = ax.get_xscale() if which == "x" else ax.get_yscale()
+            before = self._limits.get((id(ax), which))
+            keep = before[1] if before is not None and before[0] == scale else None
+            lo, hi = nice_limits(lo, hi, log, nbins, keep)
+            self._limits[(id(ax), which)] = (scale, (lo, hi))
+        (ax.set_xlim if which == "x" else ax.set_ylim)(lo, hi)
+        return lo, hi
 
     def background_key(self) -> tuple:
         """What the kept background depends on (hashable, compared between updates)."""
@@ -261,15 +278,26 @@ class BlitPlot:
         return png_of(self.fig)
 
 
-def nice_limits(lo: float, hi: float, log: bool = False, nbins: int = 5) -> tuple[float, float]:
+def nice_limits(lo: float, hi: float, log: bool = False, nbins: int = 5,
+                keep: tuple[float, float] | None = None) -> tuple[float, float]:
     """Axis limits around ``[lo, hi]`` at round values: outer ticks of a
     ``MaxNLocator(nbins)`` (linear), or whole decades (``log``; ``lo`` > 0). A small
-    change of the data keeps them, so a blitted background stays valid."""
+    change of the data keeps them, so a blitted background stays valid; ``keep`` (the
+    current limits) is returned while it holds ``[lo, hi]`` and is at most twice as wide
+    as the new limits (one decade wider on a log scale), so data near a round value does
+    not make the limits flip."""
     if log:
-        return 10.0 ** np.floor(np.log10(lo)), 10.0 ** np.ceil(np.log10(hi))
-    from matplotlib.ticker import MaxNLocator
+        new = float(10.0 ** np.floor(np.log10(lo))), float(10.0 ** np.ceil(np.log10(hi)))
+    else:
+        from matplotlib.ticker import MaxNLocator
 
-    ticks = MaxNLocator(nbins).tick_values(lo, hi)
-    below, above = ticks[ticks <= lo], ticks[ticks >= hi]
-    return (float(below.max()) if below.size else float(lo),
-            float(above.min()) if above.size else float(hi))
+        ticks = MaxNLocator(nbins).tick_values(lo, hi)
+        below, above = ticks[ticks <= lo], ticks[ticks >= hi]
+        new = (float(below.max()) if below.size else float(lo),
+               float(above.min()) if above.size else float(hi))
+    if keep is not None and keep[0] <= lo and hi <= keep[1]:
+        a, b = keep
+        if (np.log10(b / a) <= np.log10(new[1] / new[0]) + 1.0 if log
+                else b - a <= 2.0 * (new[1] - new[0])):
+            return float(a), float(b)
+    return new
