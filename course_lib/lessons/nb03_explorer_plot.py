@@ -22,7 +22,7 @@ from matplotlib.ticker import LogLocator, MaxNLocator, MultipleLocator, NullLoca
 
 from ..integrators import NEWTONIAN_METHODS
 from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS, detached_figure
-from ..widgets import BlitPlot, nice_limits
+from ..widgets import BlitPlot
 from .nb03_problems import default_t_end
 from .nb03_regions import REGION_WINDOW, draw_region
 from .nb03_stability import ExperimentResult, _fmt_factor
@@ -67,7 +67,7 @@ class ExperimentPlot(BlitPlot):
         if fig is None:
             fig = detached_figure(FIGSIZE)
         super().__init__(fig, blit)
-        self.snap = blit if snap is None else snap
+        self.round_limits = blit if snap is None else snap
         self.ax_t, self.ax_n, self.ax_z = fig.subplots(
             1, 3, gridspec_kw={"width_ratios": [1.25, 1.0, 0.95]})
         ax_t, ax_n, ax_z = self.ax_t, self.ax_n, self.ax_z
@@ -180,11 +180,10 @@ class ExperimentPlot(BlitPlot):
             hi = min(max(finite.max(), r.bound, 1.0) * 3, 1e300)
             self.bound_line.set_ydata([r.bound, r.bound])
             last = size.size - 1
-            if self.snap:        # whole decades; round, past the most steps near this dt
-                lo, hi = nice_limits(lo, hi, log=True)
-                last = nice_limits(0, max(last, self._span(r) / r.dt), nbins=10)[1]
-            self.ax_n.set_ylim(lo, hi)
-            self.ax_n.set_xlim(0, last)
+            if self.round_limits:        # past the most steps at a step near this dt
+                last = max(last, self._span(r) / r.dt)
+            self.limits(self.ax_n, "y", lo, hi, log=True)
+            self.limits(self.ax_n, "x", 0, last, nbins=10)
             self.na_text.set_text("")
             more = blow is not None and r.last_finite > blow
             self.more_text.set_text("the run goes on: see the log plot →" if more else "")
@@ -200,12 +199,9 @@ class ExperimentPlot(BlitPlot):
         else:
             self.blow_marker.set_data([], [])
             self.size_marker.set_data([], [])
-        t_end, top = r.t_end, 1.15 * top
-        if self.snap:
-            t_end = nice_limits(0, max(t_end, self._span(r)), nbins=20)[1]
-            top = nice_limits(0, top, nbins=10)[1]
-        self.ax_t.set_xlim(0.0, t_end)
-        self.ax_t.set_ylim(-top, top)
+        t_end = max(r.t_end, self._span(r)) if self.round_limits else r.t_end
+        self.limits(self.ax_t, "x", 0.0, t_end, nbins=20)
+        self.limits(self.ax_t, "y", -1.15 * top, 1.15 * top, nbins=10)
         self._set_legend(r)
         status = "stable" if r.stable else ("not applicable" if not r.applicable else "UNSTABLE")
         symbol = "k" if r.problem == "decay" else "ω"
