@@ -984,6 +984,18 @@ def test_follower_player(follower_view_module):
     dts = follower_view_module.FOLLOWER_KAPPA_DTS
     assert len(dts) == 9 and min(dts) == 0.2 and max(dts) == 100.0    # "nine values"
     assert player.nbytes < 300_000
+    width, height = follower_view_module.FollowerPlot().fig.canvas.get_width_height()
+    assert f'width="{width}" height="{height}"' in player.html       # blitted frames, full size
+
+
+def test_follower_player_over_its_budget_is_drawn_smaller(follower_view_module, monkeypatch):
+    """The blitted player has no resolution knob: over the size budget it falls back to
+    parameter_player, which redraws the frames at a lower dpi until they fit."""
+    monkeypatch.setattr(follower_view_module, "MAX_BYTES", 30_000)
+    player = follower_view_module.follower_player(kappa_dts=(1.9, 2.1))
+    assert player.nbytes <= 30_000 and player.labels == ["κ dt = 1.9", "κ dt = 2.1"]
+    width, _ = follower_view_module.FollowerPlot().fig.canvas.get_width_height()
+    assert f'width="{width}"' not in player.html
 
 
 def test_todays_default_is_an_embedded_pair():
