@@ -5,7 +5,9 @@
   the run grows without bound, or the bands are wide); on the right the width of the
   symplectic methods' bands against the step, theory as lines and this step's measured
   widths as dots (forward Euler has no band: its growth is in the title). It redraws in
-  place, so an update stays well under 100 ms.
+  place; in the widget (``blit=True``) it keeps a picture of its axes, ticks and legends
+  (:class:`~course_lib.widgets.BlitPlot`), redraws only the curves and the title over it,
+  and rounds its limits outward so that a small change of the step keeps that picture.
 - :func:`energy_explorer`: the widget (a log slider for ``dt``) over
   :func:`~course_lib.lessons.nb05_newton.energy_bands`.
 - :func:`energy_player`: the same pictures for a list of steps, as a kernel-free player.
@@ -21,6 +23,7 @@ from matplotlib.ticker import LogLocator, MaxNLocator, NullLocator
 
 from ..players import Player, parameter_player
 from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS, detached_figure
+from ..widgets import BlitPlot
 from .nb05_newton import BAND_METHODS, EnergyBands, energy_bands
 
 FIGSIZE = (10.5, 3.9)
@@ -45,11 +48,15 @@ def _band_widths(omega: float, dts: np.ndarray) -> dict:
                 "velocity_verlet": np.where(h < 2, 0.25 * h * h, np.nan)}
 
 
-class EnergyBandPlot:
-    """The explorer's figure; call it with an :class:`EnergyBands` to (re)draw."""
+class EnergyBandPlot(BlitPlot):
+    """The explorer's figure; call it with an :class:`EnergyBands` to (re)draw.
 
-    def __init__(self, fig=None):
-        self.fig = fig if fig is not None else detached_figure(FIGSIZE)
+    With ``blit=True`` (the widget) :meth:`png` redraws only what changes with the step
+    over a kept background, and the energy panel's limits are rounded outward.
+    """
+
+    def __init__(self, fig=None, *, blit: bool = False):
+        super().__init__(fig if fig is not None else detached_figure(FIGSIZE), blit)
         self.ax_e, self.ax_w = self.fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.35, 1.0]})
         self.fig.subplots_adjust(left=0.07, right=0.98, top=0.80, bottom=0.13, wspace=0.25)
         self.lines, self.lo, self.hi, self.dots = {}, {}, {}, {}
@@ -81,9 +88,25 @@ class EnergyBandPlot:
         for axis in (self.ax_w.xaxis, self.ax_w.yaxis):
             axis.set_minor_locator(NullLocator())
         self.ax_e.xaxis.set_major_locator(MaxNLocator(5))
+        self.ax_e.yaxis.set_major_locator(MaxNLocator(5))
         self.ax_w.legend(fontsize=8, loc="upper left")
         self._omega = None
+        self._fe_label = None
         self.title = self.fig.text(0.5, 0.975, "", ha="center", va="top", fontsize=10)
+        self.dynamic = [*(line for m in BAND_METHODS for line in (self.lines[m], self.lo[m],
+                                                                  self.hi[m])),
+                        *self.dots.values(), self.now, self.title]
+
+    def _set_yscale(self, scale: str) -> None:
+        """Switch the energy panel's scale (and its few ticks) when it changes."""
+        if self.ax_e.get_yscale() == scale:
+            return
+        self.ax_e.set_yscale(scale)
+        if scale == "log":
+            self.ax_e.yaxis.set_major_locator(LogLocator(numticks=5))
+            self.ax_e.yaxis.set_minor_locator(NullLocator())
+        else:
+            self.ax_e.yaxis.set_major_locator(MaxNLocator(5))
 
     def __call__(self, res: EnergyBands):
         if res.omega != self._omega:
@@ -104,29 +127,30 @@ class EnergyBandPlot:
                 width = high - low if res.stable and np.isfinite(high - low) else np.nan
                 self.dots[m].set_data([res.dt], [width])
         self.now.set_xdata([res.dt, res.dt])
-        self.ax_e.set_xlim(0.0, periods[-1])
+        # the widget: past the last step (within half a step of a whole number of periods)
+        self.ax_e.set_xlim(0.0, round(periods[-1]) + 0.5 if self.blit else periods[-1])
         lo = min(res.band[m][0] for m in WIDTH_METHODS)
         hi = max(res.band[m][1] for m in WIDTH_METHODS)
+        fe_label = "forward Euler (leaves the panel)"
         if res.stable and hi < 4 * lo:     # narrow bands: a linear scale shows them
             pad = 0.25 * (hi - lo)
-            self.ax_e.set_yscale("linear")
-            self.ax_e.yaxis.set_major_locator(MaxNLocator(5))
-            self.ax_e.set_ylim(lo - pad, hi + pad)
-            self.lines["forward_euler"].set_label("forward Euler (leaves the panel)")
+            self._set_yscale("linear")
+            limits = (lo - pad, hi + pad)
+            self.limits(self.ax_e, "y", *limits)
         elif res.stable:                   # wide bands (ω dt near 2): a log scale shows both
-            self.ax_e.set_yscale("log")
-            self.ax_e.yaxis.set_major_locator(LogLocator(numticks=5))
-            self.ax_e.yaxis.set_minor_locator(NullLocator())
-            self.ax_e.set_ylim(0.6 * lo, 1.6 * hi)
-            self.lines["forward_euler"].set_label("forward Euler (leaves the panel)")
+            self._set_yscale("log")
+            limits = (0.6 * lo, 1.6 * hi)
+            self.limits(self.ax_e, "y", *limits, log=True)
         else:
-            self.ax_e.set_yscale("log")
-            self.ax_e.yaxis.set_major_locator(LogLocator(numticks=5))
-            self.ax_e.yaxis.set_minor_locator(NullLocator())
+            self._set_yscale("log")
             self.ax_e.set_ylim(0.05, 1e12)
-            self.lines["forward_euler"].set_label(METHOD_LABELS["forward_euler"])
-        self.ax_e.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=3,
-                         borderaxespad=0.2, frameon=False)
+            fe_label = METHOD_LABELS["forward_euler"]
+        if fe_label != self._fe_label:     # the legend changes with this label only
+            self.lines["forward_euler"].set_label(fe_label)
+            self.ax_e.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=3,
+                             borderaxespad=0.2, frameon=False)
+            self._fe_label = fe_label
+        self.static_key = (self._omega, fe_label)
         self.title.set_text(f"ω dt = {res.omega * res.dt:.3g}: {res.verdict}")
         return self.fig
 
@@ -146,7 +170,7 @@ def energy_explorer(dt: float = 0.1):
     from ..widgets import ExplorerView, load_backend, log_slider
 
     load_backend()
-    return ExplorerView(energy_bands, EnergyBandPlot(),
+    return ExplorerView(energy_bands, EnergyBandPlot(blit=True),
                         {"dt": log_slider("dt (s)", dt, *DT_RANGE)})
 
 
