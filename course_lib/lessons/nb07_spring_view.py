@@ -2,9 +2,12 @@
 
 :class:`SpringPlot` draws a :class:`~course_lib.lessons.nb07_spring_runs.SpringRun` in three
 panels (stretch beside the exact curve, the error on a log scale, the energy on a log
-scale) and redraws in place: a new result updates the data of the same artists, which
-keeps a widget update within about 100 ms. Long runs are thinned for drawing only (every
-``s``-th step, said in the legend); every step is computed. A run that blows up is drawn
+scale) and redraws in place: a new result updates the data of the same artists. In the
+widget (``blit=True``) it keeps a picture of its axes, ticks and legend
+(:class:`~course_lib.widgets.BlitPlot`), redraws only the curves and titles over it, and
+rounds its limits outward so that a small change of a slider keeps that picture. Long
+runs are thinned for drawing only (every ``s``-th step, said in the legend); every step
+is computed. A run that blows up is drawn
 up to its last finite state, and its growth shows on the log panels.
 
 Lesson layer: imports the compute module (:mod:`~course_lib.lessons.nb07_spring_runs`), the
@@ -20,6 +23,7 @@ from matplotlib.ticker import LogLocator, MaxNLocator, NullLocator
 
 from ..integrators import METHODS
 from ..plotting import EXACT_STYLE, METHOD_COLORS, METHOD_LABELS, detached_figure
+from ..widgets import BlitPlot, nice_limits
 from .nb07_spring_limits import velocity_verlet_gap_end, velocity_verlet_windows
 from .nb07_spring_runs import SpringRun, run_spring
 
@@ -28,7 +32,7 @@ FIGSIZE = (10.0, 3.5)
 MAX_POINTS = 1500
 
 
-class SpringPlot:
+class SpringPlot(BlitPlot):
     """The spring widget's figure; call it with a :class:`SpringRun` to (re)draw.
 
     Parameters
@@ -36,12 +40,17 @@ class SpringPlot:
     fig : matplotlib.figure.Figure, optional
         Figure to draw into; by default a new one, released from pyplot (the widget
         displays it itself).
+    blit : bool
+        The widget: :meth:`png` redraws only the curves and titles over a kept
+        background, and the limits are rounded outward.
     """
 
-    def __init__(self, fig=None):
+    def __init__(self, fig=None, *, blit: bool = False):
         if fig is None:
             fig = detached_figure(FIGSIZE)
-        self.fig = fig
+        super().__init__(fig, blit)
+        # ticks at 1, 2, 5 times a power of ten: round limits such as 20.5 s then show 0 ... 20
+        self._steps = [1, 2, 5, 10] if self.round_limits else None
         self.ax_x, self.ax_e, self.ax_E = fig.subplots(1, 3)
         fig.subplots_adjust(left=0.085, right=0.985, top=0.74, bottom=0.15, wspace=0.34)
         ax_x, ax_e, ax_E = self.ax_x, self.ax_e, self.ax_E
@@ -56,11 +65,27 @@ class SpringPlot:
         ax_E.set(xlabel="t (s)", ylabel="energy (J)")
         # Few ticks and no minor tick labels: drawing text dominates a redraw.
         for ax in (ax_x, ax_e, ax_E):
-            ax.xaxis.set_major_locator(MaxNLocator(4))
+            ax.xaxis.set_major_locator(MaxNLocator(4, steps=self._steps))
         ax_e.yaxis.set_major_locator(LogLocator(numticks=4))
         ax_e.yaxis.set_minor_locator(NullLocator())
         self.title = fig.text(0.5, 0.975, "", ha="center", va="top", fontsize=10.5)
         self.subtitle = fig.text(0.5, 0.905, "", ha="center", va="top", fontsize=9.5)
+        self.dynamic = [self.exact_x, self.num_x, self.blow_x, self.num_e, self.exact_E,
+                        self.num_E, self.title, self.subtitle]
+        self._scales: dict = {}
+        self._legend_key = None
+
+    def _set_yscale(self, ax, scale: str, **kw) -> None:
+        """Switch ``ax`` to ``scale`` (and its few ticks) when it changes."""
+        if self._scales.get(ax) == (scale, kw):
+            return
+        ax.set_yscale(scale, **kw)
+        if scale == "log":
+            ax.yaxis.set_major_locator(LogLocator(numticks=4))
+            ax.yaxis.set_minor_locator(NullLocator())
+        elif scale == "linear":
+            ax.yaxis.set_major_locator(MaxNLocator(5 if ax is self.ax_x else 4, steps=self._steps))
+        self._scales[ax] = (scale, kw)
 
     def __call__(self, run: SpringRun):
         p = run.params
@@ -87,26 +112,31 @@ class SpringPlot:
         else:
             self.blow_x.set_data([run.t[last]], [run.x[last]])
         if top > 10 * a:   # growth: a symmetric log scale keeps both the start and the end
-            self.ax_x.set_yscale("symlog", linthresh=a)
-            self.ax_x.set_ylim(-1.5 * top, 1.5 * top)
+            self._set_yscale(self.ax_x, "symlog", linthresh=a)
+            top = nice_limits(a, 1.5 * top, log=True)[1] if self.round_limits else 1.5 * top
+            self.ax_x.set_ylim(-top, top)
         else:
             top = max(top, float(np.max(np.abs(run.exact_fine))))
-            self.ax_x.set_yscale("linear")
-            self.ax_x.yaxis.set_major_locator(MaxNLocator(5))
-            self.ax_x.set_ylim(-1.15 * top, 1.3 * top)
-        self.ax_x.set_xlim(0.0, run.t[-1])
+            self._set_yscale(self.ax_x, "linear")
+            self.limits(self.ax_x, "y", -1.15 * top, 1.3 * top, nbins=10)
+        # the widget: past the last step (round(t_end / dt) steps end before t_end + dt/2)
+        t_last = max(run.t[-1], p["t_end"] + 0.5 * p["dt"]) if self.round_limits else run.t[-1]
+        t_last = self.limits(self.ax_x, "x", 0.0, t_last, nbins=40)[1]
         handles = [self.exact_x, self.num_x] + ([self.blow_x] if run.blowup_step else [])
-        self.ax_x.legend(handles=handles, loc="lower left", bbox_to_anchor=(0.0, 1.0),
-                         ncol=3, fontsize=8.5, borderaxespad=0.2)
+        legend_key = (tuple(h.get_label() for h in handles), color)
+        if legend_key != self._legend_key:   # rebuilt only when its entries change
+            self.ax_x.legend(handles=handles, loc="lower left", bbox_to_anchor=(0.0, 1.0),
+                             ncol=3, fontsize=8.5, borderaxespad=0.2)
+            self._legend_key = legend_key
 
         err = run.error[idx]
         self.num_e.set_data(run.t[idx], np.where(err > 0, err, np.nan))   # 0 at t = 0
         self.num_e.set_color(color)
         positive = err[np.isfinite(err) & (err > 0)]
         if positive.size:
-            self.ax_e.set_ylim(max(1e-16, 0.3 * float(positive.min())),
-                               3.0 * float(positive.max()))
-        self.ax_e.set_xlim(0.0, run.t[-1])
+            self.limits(self.ax_e, "y", max(1e-16, 0.3 * float(positive.min())),
+                        3.0 * float(positive.max()), log=True)
+        self.ax_e.set_xlim(0.0, t_last)
 
         self.exact_E.set_data(run.t[shown], np.maximum(run.exact_energy[shown], 1e-300))
         self.num_E.set_data(run.t[idx], run.energy[idx])
@@ -116,16 +146,14 @@ class SpringPlot:
         E_all = E_all[np.isfinite(E_all) & (E_all > 0)]
         lo, hi = float(E_all.min()), float(E_all.max())
         if hi > 10 * lo:     # growth or decay: log scale
-            self.ax_E.set_yscale("log")
-            self.ax_E.yaxis.set_major_locator(LogLocator(numticks=4))
-            self.ax_E.yaxis.set_minor_locator(NullLocator())
-            self.ax_E.set_ylim(max(0.3 * lo, 1e-8 * E0), 3.0 * hi)
+            self._set_yscale(self.ax_E, "log")
+            self.limits(self.ax_E, "y", max(0.3 * lo, 1e-8 * E0), 3.0 * hi, log=True)
         else:                # a band around the exact energy: linear scale shows it
-            self.ax_E.set_yscale("linear")
-            self.ax_E.yaxis.set_major_locator(MaxNLocator(4))
+            self._set_yscale(self.ax_E, "linear")
             pad = max(0.15 * (hi - lo), 0.02 * hi)
-            self.ax_E.set_ylim(lo - pad, hi + 2 * pad)
-        self.ax_E.set_xlim(0.0, run.t[-1])
+            self.limits(self.ax_E, "y", lo - pad, hi + 2 * pad, nbins=4)
+        self.ax_E.set_xlim(0.0, t_last)
+        self.static_key = (self._legend_key, tuple(self._scales.values()))
 
         self.title.set_text(f"{label}, k = {p['k']:.3g} N/m, c = {p['c']:.3g} N s/m, "
                             f"m = {p['m']:.3g} kg, dt = {p['dt']:.3g} s: {run.message}")
@@ -172,7 +200,7 @@ def spring_explorer(k: float = 10.0, c: float = 0.0, dt: float = 0.05,
         "method": w.Dropdown(options=[(METHOD_LABELS[m], m) for m in METHODS], value=method,
                              description="method"),
     }
-    return BusyExplorerView(run_spring, SpringPlot(), controls)
+    return BusyExplorerView(run_spring, SpringPlot(blit=True), controls)
 
 
 def draw_damped_limits(ax, measured: dict | None = None, zeta_max: float = 2.0,
