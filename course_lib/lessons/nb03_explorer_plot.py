@@ -97,8 +97,9 @@ class ExperimentPlot(BlitPlot):
         self.z_arrow = ax_z.annotate("", xy=(0, 0), xytext=(0, 0), visible=False,
                                      arrowprops={"arrowstyle": "->", "color": "black", "lw": 2})
         # Few ticks: drawing text dominates the redraw time.
+        steps = [1, 2, 5, 10] if self.round_limits else None   # 0 ... 20 on 0 ... 20.5
         for axis in (ax_t.xaxis, ax_t.yaxis):
-            axis.set_major_locator(MaxNLocator(4))
+            axis.set_major_locator(MaxNLocator(4, steps=steps))
         ax_n.xaxis.set_major_locator(MaxNLocator(4, integer=True))
         ax_z.xaxis.set_major_locator(MultipleLocator(2))
         ax_z.yaxis.set_major_locator(MultipleLocator(2))
@@ -200,7 +201,7 @@ class ExperimentPlot(BlitPlot):
             self.blow_marker.set_data([], [])
             self.size_marker.set_data([], [])
         t_end = max(r.t_end, self._span(r)) if self.round_limits else r.t_end
-        self.limits(self.ax_t, "x", 0.0, t_end, nbins=20)
+        self.limits(self.ax_t, "x", 0.0, t_end, nbins=40)
         self.limits(self.ax_t, "y", -1.15 * top, 1.15 * top, nbins=10)
         self._set_legend(r)
         status = "stable" if r.stable else ("not applicable" if not r.applicable else "UNSTABLE")
