@@ -227,6 +227,7 @@ class BlitPlot:
     def __init__(self, fig, blit: bool):
         self.fig, self.blit = fig, blit
         self.round_limits = blit
+        self.rc: dict = {}       # matplotlib settings while rendering, e.g. faster text
         self.dynamic: list = []
         self.static_key = None
         self._background = None
@@ -256,6 +257,15 @@ class BlitPlot:
 
     def render(self) -> None:
         """Draw the figure on its Agg canvas (with :attr:`blit`, only what changed)."""
+        if self.rc:
+            import matplotlib as mpl
+
+            with mpl.rc_context(self.rc):
+                self._render()
+        else:
+            self._render()
+
+    def _render(self) -> None:
         canvas = self.fig.canvas
         if not self.blit:
             canvas.draw()
