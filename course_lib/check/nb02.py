@@ -40,7 +40,7 @@ from ._nb02_cases import (
     radius_formula,
 )
 from .policy import name_chains
-from .tolerance import escalate
+from .tolerance import case_table, escalate
 
 
 def _decay(t, y):
@@ -300,7 +300,8 @@ def observed_order(ck: Checker, student) -> None:
                 "differences of the end states",
                 "run n, 2n and 4n steps of size T/n, T/(2n), T/(4n) to the same end time T, "
                 "then p = log2(|X_n - X_2n| / |X_2n - X_4n|)")
-        for mistake, wrong in order_mistakes(step, f, y0, T, n, expected).items():
+        slips = case_table("observed_order", what, order_mistakes, step, f, y0, T, n, expected)
+        for mistake, wrong in slips.items():
             if math.isclose(p, wrong, rel_tol=1e-6, abs_tol=1e-9):
                 hint = mistake
                 break

@@ -17,7 +17,7 @@ from .. import hair, springs, strands
 from . import Checker, exercise
 from ._answers import as_array, call_analysis, close
 from ._nb08_cases import loop_cases, loop_mistakes, reference
-from .tolerance import blown_up, call_whole_array, close_worst, escalate, precision_rtol
+from .tolerance import blown_up, call_whole_array, case_table, close_worst, escalate, precision_rtol
 
 
 def _rows(i, j, rest) -> np.ndarray:
@@ -120,7 +120,8 @@ def hair_frames(ck: Checker, func) -> None:
     substepped symplectic Euler loop with pinned roots and the head's projection; compared
     with :func:`course_lib.hair.simulate`, and no particle may end inside the head."""
     for what, x0, net, mass, pinned, damping, head, frames, substeps, fps in loop_cases():
-        expected = reference(x0, net, mass, pinned, damping, head, frames, substeps, fps)
+        run = (x0, net, mass, pinned, damping, head, frames, substeps, fps)
+        expected = case_table("hair_frames", what, reference, *run)
         budget = LINES_PER_STEP * frames * substeps + 200
         ok, got = call_whole_array(ck, what, budget, escalate(
             "each substep is a few operations on whole (N, 3) arrays: no loop over particles",
@@ -146,8 +147,7 @@ def hair_frames(ck: Checker, func) -> None:
                 "stiff springs: update v from the forces first, then x with the new v")):
             continue
         right = np.allclose(answer, expected, rtol=0.0, atol=1e-9)
-        mistakes = {} if right else loop_mistakes(x0, net, mass, pinned, damping, head,
-                                                  frames, substeps, fps)
+        mistakes = {} if right else case_table("hair_frames: slips", what, loop_mistakes, *run)
         # one row per particle and frame: a wrong answer is summarised by its worst row
         n = len(x0)
         close_worst(ck, answer.reshape(-1, 3), expected.reshape(-1, 3), f"{what}: the frames",

@@ -14,7 +14,9 @@
   on a spring compressed to half its rest length) are told apart by the other cases;
 - :func:`close_worst`: compare arrays of many rows (particles, springs, frames) and, on a
   failure, say how many values differ and show the *worst* row with how far it is off,
-  never the whole expected array (which would bury the hint, or give the answer away).
+  never the whole expected array (which would bury the hint, or give the answer away);
+- :func:`case_table`: a table that depends on a fixed case only (the reference frames, what
+  the usual slips give), built once per kernel, so a second wrong attempt is judged at once.
 
 Check layer: imports NumPy, the shared :class:`~course_lib.check.Checker` and the answer
 helpers of :mod:`course_lib.check._answers`.
@@ -171,3 +173,29 @@ def close_worst(ck: Checker, got, expected, what: str, *, rtol: float, atol: flo
     return ck.expect(False, what, f"{int(bad.sum())} of {bad.size} values differ; the worst, "
                      f"{name}: expected {show(e[r])}, got {show(a[r])} (off by "
                      f"{gap[r]:.2g}{' ' + unit if unit else ''})", hint)
+
+
+#: Tables of the checks' fixed cases, keyed by (check, case label); see :func:`case_table`.
+_TABLES: dict[tuple[str, str], object] = {}
+
+
+def _freeze(value):
+    """``value`` with every array in it (at the top or as a dict's value) made read-only."""
+    for arr in (value.values() if isinstance(value, dict) else (value,)):
+        if isinstance(arr, np.ndarray):
+            arr.flags.writeable = False
+    return value
+
+
+def case_table(check: str, case: str, build, *args):
+    """``build(*args)`` for the case labelled ``case`` of the check ``check``, built on first use
+    and reused by every later attempt in the same kernel.
+
+    Only for what depends on the case alone, never on the answer: the reference frames of a
+    run, the results of the usual slips. Arrays come back read-only, so that no caller can
+    change what the next attempt is judged against.
+    """
+    key = (check, case)
+    if key not in _TABLES:
+        _TABLES[key] = _freeze(build(*args))
+    return _TABLES[key]
