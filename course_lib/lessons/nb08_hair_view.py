@@ -2,7 +2,9 @@
 
 - :class:`HeldStrandPlot` draws a :class:`~course_lib.lessons.nb08_hair_runs.HeldStrandRun`
   (snapshots beside the equilibrium; the tip height against time) and redraws in place;
-  a blown-up run shows its last finite state and its growth on a symmetric log scale.
+  a blown-up run shows its last finite state and its growth on a log scale. In the widget
+  (``blit=True``) it keeps a picture of its axes, ticks and legends
+  (:class:`~course_lib.widgets.BlitPlot`) and redraws only the curves and titles.
 - :func:`held_strand_explorer`: the widget (bending stiffness, damping, step), which says
   when it is working and caps a run at :data:`MAX_STEPS` steps (said in the title).
 - :func:`animate` and :func:`draw_hairstyle`: strands seen from the front and from the
@@ -23,6 +25,7 @@ from matplotlib.ticker import MaxNLocator
 from ..hair import FPS
 from ..plotting import EXACT_STYLE, detached_figure
 from ..springs import SpringNetwork
+from ..widgets import BlitPlot
 from .nb08_hair_runs import HeldStrandRun, SaddleEscape, run_held_strand
 
 #: The widget's time span (s) and cap on the steps of one run (and so on its update time).
@@ -31,13 +34,15 @@ FIGSIZE = (10.0, 3.6)
 N_SNAPSHOTS = 6
 
 
-class HeldStrandPlot:
-    """The hair widget's figure; call it with a :class:`HeldStrandRun` to (re)draw."""
+class HeldStrandPlot(BlitPlot):
+    """The hair widget's figure; call it with a :class:`HeldStrandRun` to (re)draw. With
+    ``blit=True`` :meth:`png` redraws only the curves and titles over a kept background
+    and the time axis ends at a round value."""
 
-    def __init__(self, fig=None):
+    def __init__(self, fig=None, *, blit: bool = False):
         if fig is None:
             fig = detached_figure(FIGSIZE)
-        self.fig = fig
+        super().__init__(fig, blit)
         self.ax_s, self.ax_t = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.0, 1.25]})
         fig.subplots_adjust(left=0.07, right=0.98, top=0.80, bottom=0.15, wspace=0.22)
         colors = plt.cm.viridis(np.linspace(0.0, 0.9, N_SNAPSHOTS))
@@ -57,6 +62,18 @@ class HeldStrandPlot:
             ax.yaxis.set_major_locator(MaxNLocator(4))
         self.title = fig.text(0.5, 0.975, "", ha="center", va="top", fontsize=10.5)
         self.subtitle = fig.text(0.5, 0.905, "", ha="center", va="top", fontsize=9.5)
+        self.dynamic = [*self.snaps, self.eq_s, self.last_s, self.tip, self.speed, self.eq_t,
+                        self.title, self.subtitle]
+        self._legends: dict = {}
+        if blit:    # unhinted text renders faster (the titles change with every update)
+            self.rc = {"text.hinting": "none"}
+
+    def _legend(self, ax, handles, **kw) -> None:
+        """(Re)build ``ax``'s legend when its entries change (its labels and place)."""
+        key = (tuple(h.get_label() for h in handles), tuple(sorted(kw.items())))
+        if self._legends.get(ax) != key:
+            ax.legend(handles=handles, **kw)
+            self._legends[ax] = key
 
     def __call__(self, run: HeldStrandRun):
         p = run.params
@@ -77,7 +94,7 @@ class HeldStrandPlot:
             self.last_s.set_data(run.last_finite[:, 0], run.last_finite[:, 1])
             self.last_s.set_label(f"last finite state (step {run.last_step})")
             handles.append(self.last_s)
-        self.ax_s.legend(handles=handles, fontsize=8, loc="lower right")
+        self._legend(self.ax_s, handles, fontsize=8, loc="lower right")
 
         t = p["t"]
         last = run.last_step
@@ -89,11 +106,15 @@ class HeldStrandPlot:
             eq_y = float(run.equilibrium[-1, 1])
             self.eq_t.set_ydata([eq_y, eq_y])
             self.eq_t.set_visible(True)
-            self.ax_t.set_yscale("linear")
-            self.ax_t.yaxis.set_major_locator(MaxNLocator(4))
+            if self.ax_t.get_yscale() != "linear":
+                self.ax_t.set_yscale("linear")
+                self.ax_t.yaxis.set_major_locator(MaxNLocator(4))
             self.ax_t.set_ylim(-0.33, 0.07)
             self.ax_t.set_ylabel("tip height y (m)")
-            self.ax_t.set_xlim(0.0, p["t_shown"])
+            shown = p["t_shown"]
+            if self.round_limits and shown >= p["t_end"] - 0.5 * p["dt"]:   # not capped:
+                shown = p["t_end"] + 0.5 * p["dt"]      # round(t_end/dt) steps end before
+            self.limits(self.ax_t, "x", 0.0, shown, nbins=40)
             self.speed.set_data([], [])
             legend = [self.tip, self.eq_t]
         else:      # blown up: the growth, on a log scale, up to the last finite step
@@ -102,13 +123,16 @@ class HeldStrandPlot:
             self.speed.set_data(t[1: last + 1], np.maximum(run.speed, 1e-16))
             self.eq_t.set_ydata([1.0, 1.0])        # hidden; positive, for the log scale
             self.eq_t.set_visible(False)
-            self.ax_t.relim(visible_only=True)     # forget y = 0 before going to a log scale
-            self.ax_t.set_yscale("log")
+            if self.ax_t.get_yscale() != "log":
+                self.ax_t.relim(visible_only=True)     # forget y = 0 before a log scale
+                self.ax_t.set_yscale("log")
             self.ax_t.set_ylim(1e-8, 1e3)
             self.ax_t.set_ylabel("displacement, speed (log scale)")
-            self.ax_t.set_xlim(0.0, 1.05 * t[last])
+            self.limits(self.ax_t, "x", 0.0, 1.05 * t[last], nbins=40)
             legend = [self.tip, self.speed]
-        self.ax_t.legend(handles=legend, fontsize=8, loc="upper right" if run.stable else "lower right")
+        self._legend(self.ax_t, legend, fontsize=8,
+                     loc="upper right" if run.stable else "lower right")
+        self.static_key = (tuple(self._legends.values()), self.ax_t.get_ylabel())
 
         verdict = "stable" if run.stable else "BLOWN UP: " + run.message
         self.title.set_text(f"k_bend {p['k_bend']:.3g} N/m, damping {p['damping']:.2g} kg/s, "
@@ -146,7 +170,7 @@ def held_strand_explorer(k_bend: float = 2000.0, damping: float = 2e-3, dt: floa
                                  continuous_update=False, style={"description_width": "initial"}),
         "dt": log_slider("dt (s)", dt, 2e-5, 1e-3),
     }
-    return BusyExplorerView(run_held_strand, HeldStrandPlot(), controls,
+    return BusyExplorerView(run_held_strand, HeldStrandPlot(blit=True), controls,
                             fixed={"max_steps": MAX_STEPS, "t_end": T_END})
 
 
