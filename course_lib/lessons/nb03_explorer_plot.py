@@ -68,6 +68,8 @@ class ExperimentPlot(BlitPlot):
             fig = detached_figure(FIGSIZE)
         super().__init__(fig, blit)
         self.round_limits = blit if snap is None else snap
+        if self.round_limits:   # unhinted text renders faster (titles change every update)
+            self.rc = {"text.hinting": "none"}
         self.ax_t, self.ax_n, self.ax_z = fig.subplots(
             1, 3, gridspec_kw={"width_ratios": [1.25, 1.0, 0.95]})
         ax_t, ax_n, ax_z = self.ax_t, self.ax_n, self.ax_z

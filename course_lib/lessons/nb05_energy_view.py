@@ -57,6 +57,8 @@ class EnergyBandPlot(BlitPlot):
 
     def __init__(self, fig=None, *, blit: bool = False):
         super().__init__(fig if fig is not None else detached_figure(FIGSIZE), blit)
+        if blit:    # unhinted text renders faster (the title changes with every update)
+            self.rc = {"text.hinting": "none"}
         self.ax_e, self.ax_w = self.fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.35, 1.0]})
         self.fig.subplots_adjust(left=0.07, right=0.98, top=0.80, bottom=0.13, wspace=0.25)
         self.lines, self.lo, self.hi, self.dots = {}, {}, {}, {}

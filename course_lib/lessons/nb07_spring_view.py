@@ -51,6 +51,8 @@ class SpringPlot(BlitPlot):
         super().__init__(fig, blit)
         # ticks at 1, 2, 5 times a power of ten: round limits such as 20.5 s then show 0 ... 20
         self._steps = [1, 2, 5, 10] if self.round_limits else None
+        if blit:    # unhinted text renders faster (the titles change with every update)
+            self.rc = {"text.hinting": "none"}
         self.ax_x, self.ax_e, self.ax_E = fig.subplots(1, 3)
         fig.subplots_adjust(left=0.085, right=0.985, top=0.74, bottom=0.15, wspace=0.34)
         ax_x, ax_e, ax_E = self.ax_x, self.ax_e, self.ax_E
