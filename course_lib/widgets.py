@@ -10,8 +10,9 @@ Every interactive demo in the course has two halves:
 
 :class:`ExplorerView` shows the figure as a PNG in an image widget (no flicker, no page
 jump); :class:`PictureView` lets the drawing render its own PNG and says "computing…" while
-it works; :class:`BlitPlot` is a figure whose axes never change, so only its moving artists
-are redrawn (notebooks 02 and 04 use both).
+it works; :class:`BlitPlot` is a kept figure that redraws only its moving artists over a kept
+picture of the rest, drawn again when its limits, scales or legends change (notebooks 02,
+03, 04, 05, 07, 08 and 12; :func:`nice_limits` rounds a widget's limits).
 
 :func:`load_backend`, called by every view, makes a widget's first picture show in a fresh
 kernel (a detached figure never makes pyplot load the inline backend).
