@@ -4,7 +4,8 @@ Each widget is built by its lesson's factory and driven the way a student drives
 setting a control's ``.value``. Times are CPU seconds of the benchmark thread (wall time in
 the note): the update is serial, and the wall clock on a shared machine counts other
 processes too (outside a kernel the view computes and draws off-screen
-with Agg, the same compute and draw functions the notebook runs). We time its default
+with Agg, the same compute and draw functions the notebook runs; a kept figure, a
+:class:`~course_lib.widgets.BlitPlot`, also encodes the PNG the student's image receives). We time its default
 settings, then sweep the settings that cost most (every method at the smallest step, the
 largest step, stiffness and damping at their ends) and report the slowest; the hair
 widget is also timed on bending stiffnesses it has never seen (a fresh equilibrium), and
