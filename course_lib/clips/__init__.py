@@ -8,19 +8,29 @@ notebooks, and a project's own ``FuncAnimation``) and writes it by the file's ex
   ffmpeg binary that the ``imageio-ffmpeg`` wheel ships, so no system ffmpeg is needed;
 - ``.gif``: written by Pillow (every frame, its duration 1/fps).
 
-A tqdm bar counts the frames as they are drawn (``Animation.save``'s progress callback).
-:func:`clip_info` reads a written file back: frames, pixel size, duration.
+Frames are drawn by :func:`.frames.write_frames`, which draws only what moves when the
+frame function returns the artists it changed (see :mod:`course_lib.clips.frames`); the
+frames have the same pixels as ``Animation.save``'s, which draws the whole figure for
+each frame (and then a layout pass and, on a pyplot canvas, a draw for the screen).
+The figure's layout engine (e.g. constrained layout) runs once, before the first frame.
 
-Imports: matplotlib (its animation writers), tqdm, imageio-ffmpeg and Pillow when used.
+A tqdm bar counts the frames as they are drawn. :func:`clip_info` reads a written file
+back: frames, pixel size, duration.
+
+Imports: matplotlib (its animation writers, the Agg canvas), tqdm, imageio-ffmpeg and
+Pillow when used.
 """
 
 from __future__ import annotations
 
-import itertools
 from pathlib import Path
 
 import matplotlib
 from matplotlib import animation
+
+from .frames import write_frames
+
+__all__ = ["FORMATS", "clip_info", "ffmpeg_exe", "frame_count", "save_clip", "write_frames"]
 
 #: What each extension is written as.
 FORMATS = {".mp4": "H.264 video (libx264, yuv420p)", ".gif": "GIF (Pillow)"}
@@ -46,6 +56,25 @@ def frame_count(anim: animation.Animation) -> int | None:
     return int(count) if count is not None else None
 
 
+class RGBAFFMpegWriter(animation.FFMpegWriter):
+    """matplotlib's ffmpeg pipe, also fed a drawn canvas's RGBA pixels directly."""
+
+    def grab_rgba(self, rgba) -> None:
+        """Write one frame: ``rgba`` (bytes-like, ``height × width × 4``, ``uint8``)."""
+        self._proc.stdin.write(rgba)
+
+
+class RGBAPillowWriter(animation.PillowWriter):
+    """matplotlib's GIF writer, also fed a drawn canvas's RGBA pixels directly."""
+
+    def grab_rgba(self, rgba) -> None:
+        """Keep one frame, as :meth:`grab_frame` keeps a saved one (RGB if opaque)."""
+        from PIL import Image
+
+        im = Image.frombuffer("RGBA", self.frame_size, bytes(rgba), "raw", "RGBA", 0, 1)
+        self._frames.append(im if im.getextrema()[3][0] < 255 else im.convert("RGB"))
+
+
 def save_clip(anim: animation.Animation, path, *, fps: float | None = None, dpi: float | None = None,
               height: int | None = None, frames: int | None = None, crf: int = 20,
               preset: str = "veryfast", progress: bool = True) -> Path:
@@ -54,14 +83,15 @@ def save_clip(anim: animation.Animation, path, *, fps: float | None = None, dpi:
     Parameters
     ----------
     anim : matplotlib.animation.Animation
-        The animation (its figure is drawn once per frame).
+        The animation (drawn by :func:`write_frames`: only what moves, if it can).
     path : str or Path
         The file to write; its extension chooses the format (:data:`FORMATS`).
     fps : float, optional
         Frames per second of the clip; default: the animation's own interval
         (``1000 / interval``). A clip of ``n`` frames lasts ``n / fps`` seconds.
     dpi : float, optional
-        Pixels per inch of the frames (default: the figure's). Not with ``height``.
+        Pixels per inch of the frames (default: the figure's, not ``savefig.dpi`` as
+        ``Animation.save`` takes). Not with ``height``.
     height : int, optional
         Frame height in pixels, e.g. 720 (the dpi is chosen for it; the width follows
         the figure's aspect).
@@ -96,31 +126,27 @@ def save_clip(anim: animation.Animation, path, *, fps: float | None = None, dpi:
     if suffix == ".mp4":
         ffmpeg_exe()
         x264 = ["-vcodec", "libx264", "-preset", preset, "-crf", str(crf)]  # after matplotlib's "h264"
-        writer = animation.FFMpegWriter(fps=fps, codec="h264", extra_args=x264)
+        writer = RGBAFFMpegWriter(fps=fps, codec="h264", extra_args=x264)
     else:
-        writer = animation.PillowWriter(fps=fps)
+        writer = RGBAPillowWriter(fps=fps)
     path.parent.mkdir(parents=True, exist_ok=True)
     from tqdm import tqdm
 
     fig = anim._fig
     engine = fig.get_layout_engine()
     if engine is not None and type(engine).__name__ != "PlaceHolderLayoutEngine":
-        # Lay the figure out once, at the first frame, instead of at every frame (a third of
-        # the time of a two-panel clip); the frames then also keep still axes.
-        fig.canvas.draw()
+        # Lay the figure out once, at the first frame, instead of at every frame drawn in
+        # full; the frames then also keep still axes. (Not canvas.draw(): the bare canvas of
+        # a figure closed by pyplot draws nothing, and so did not lay it out.)
+        fig.draw_without_rendering()
         fig.set_layout_engine("none")
     total = frame_count(anim)
     if frames is not None:
-        # Animation.save draws whatever new_saved_frame_seq yields: the first `frames` of it
-        every = anim.new_saved_frame_seq
-        anim.new_saved_frame_seq = lambda: itertools.islice(every(), frames)
         total = frames if total is None else min(total, frames)
     try:
         with tqdm(total=total, unit="frame", desc=path.name, disable=not progress) as bar:
-            anim.save(str(path), writer=writer, dpi=dpi, progress_callback=lambda i, n: bar.update(1))
+            write_frames(anim, writer, path, dpi=dpi, frames=frames, progress_callback=lambda: bar.update(1))
     finally:
-        if frames is not None:
-            del anim.new_saved_frame_seq
         if engine is not None and fig.get_layout_engine() is not engine:
             fig.set_layout_engine(engine)
     return path

@@ -2,7 +2,9 @@
 
 Each ``nbNN()`` builds a ``matplotlib.animation.FuncAnimation`` from the notebook's own
 lesson module (its runners and drawings, used as they are) and the core, with the
-numerical answer beside the exact one where the notebook has one. ``frames`` sets the
+numerical answer beside the exact one where the notebook has one. Each frame function
+returns the artists it changes, so a clip draws only those (see :mod:`course_lib.clips`);
+notebook 01's redraws its axes, so its clip draws every frame in full. ``frames`` sets the
 number of frames (each builder has a default of a few seconds at its frame rate).
 :mod:`.showcase` registers them and renders them into clips.
 """
@@ -73,6 +75,7 @@ def _orbit_movie(runs: dict, title: str, frames: int, reach: float = 3.0) -> Fun
             line.set_data(y[: k + 1, 0], y[: k + 1, 1])
             dot.set_data([y[k, 0]], [y[k, 1]])
         head.set_text(f"{title}, t = {t[k]:.1f} s")
+        return [a for line, dot, _ in artists.values() for a in (line, dot)] + [head]
 
     return FuncAnimation(fig, draw, frames=frames, interval=1000 / 15)
 
@@ -102,6 +105,7 @@ def nb03(frames: int = 40) -> FuncAnimation:
         for dt, r in runs.items():
             keep = r.t <= now
             lines[dt].set_data(r.t[keep], r.y[keep, 0])
+        return list(lines.values())
 
     return FuncAnimation(fig, draw, frames=frames, interval=1000 / 10)
 
@@ -150,6 +154,7 @@ def nb06(frames: int = 90) -> FuncAnimation:
             line.set_data(x[: k + 1, i, 0], x[: k + 1, i, 1])
         dots.set_offsets(x[k])
         head.set_text(f"8 bodies, softened gravity (G = 1), t = {run.t[k]:.1f}")
+        return [*trails, dots, head]
 
     return FuncAnimation(fig, draw, frames=frames, interval=1000 / 30)
 
@@ -179,6 +184,7 @@ def nb07(frames: int = 90) -> FuncAnimation:
         coil.set_data(0.12 * np.sign(np.sin(zig * 20 * np.pi)) * (0 < zig) * (zig < 1), bottom * zig)
         block.set_offsets([[0.0, bottom]])
         trace.set_data(run.t[: k + 1], run.x[: k + 1])
+        return coil, block, trace
 
     return FuncAnimation(fig, draw, frames=frames, interval=1000 / 30)
 
@@ -226,6 +232,7 @@ def nb10(frames: int = 100) -> FuncAnimation:
         arrows.set_offsets(x)
         arrows.set_UVC(v[:, 0], v[:, 1], np.arctan2(v[:, 1], v[:, 0]))
         head.set_text(f"{lesson.N_BOIDS} boids, t = {2 * (j + 1) * lesson.DT:.1f} s (colour: heading)")
+        return arrows, head
 
     return FuncAnimation(fig, draw, frames=frames, interval=1000 / 30)
 
