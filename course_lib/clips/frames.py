@@ -45,7 +45,7 @@ def write_frames(anim: animation.Animation, writer, outfile, *, dpi: float | Non
         ``init_func``, once before; then each frame of ``new_saved_frame_seq``).
     writer : matplotlib.animation.AbstractMovieWriter
         With a method ``grab_rgba(buffer)`` taking one frame's pixels (``height × width × 4``,
-        ``uint8``), e.g. :class:`RGBAFFMpegWriter` or :class:`RGBAPillowWriter`.
+        ``uint8``), e.g. :class:`course_lib.clips.RGBAFFMpegWriter` or ``RGBAPillowWriter``.
     outfile : str or Path
         Passed to ``writer.saving``.
     dpi : float, optional
