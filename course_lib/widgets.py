@@ -204,13 +204,23 @@ def figure_png(fig) -> bytes:
 
 
 def png_of(fig) -> bytes:
-    """The figure's Agg canvas as PNG bytes (fast compression: a widget sends it at once)."""
-    from PIL import Image
+    """The figure's Agg canvas as PNG bytes, written directly: 8-bit RGBA rows without a
+    filter, zlib level 1 (twice as fast as Pillow's adaptive filters, about as small: a
+    widget sends it at once)."""
+    import struct
+    import zlib
 
-    buffer = io.BytesIO()
-    Image.fromarray(np.asarray(fig.canvas.buffer_rgba())).save(buffer, format="png",
-                                                               compress_level=1)
-    return buffer.getvalue()
+    rgba = np.asarray(fig.canvas.buffer_rgba())
+    height, width = rgba.shape[:2]
+    rows = np.zeros((height, 4 * width + 1), dtype=np.uint8)   # byte 0 of a row: filter 0
+    rows[:, 1:] = rgba.reshape(height, -1)
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows.tobytes(), 1)) + chunk(b"IEND", b""))
 
 
 class BlitPlot:

@@ -285,6 +285,24 @@ def test_nice_limits_contain_the_data_at_round_values():
     assert nice_limits(3e-4, 0.5, log=True, keep=(1e-6, 1.0)) == (1e-4, 1.0)
 
 
+def test_png_of_decodes_to_the_canvas_exactly():
+    from course_lib.plotting import detached_figure
+    from course_lib.widgets import png_of
+
+    fig = detached_figure((3.1, 2.3))                  # odd pixel sizes
+    ax = fig.subplots()
+    ax.imshow(np.random.default_rng(2026).random((20, 30, 4)))     # varied, translucent
+    ax.set_title("a title", color="red")
+    fig.canvas.draw()
+    png = png_of(fig)
+    image = Image.open(io.BytesIO(png))
+    assert image.format == "PNG" and image.mode == "RGBA"
+    assert np.array_equal(np.asarray(image), np.asarray(fig.canvas.buffer_rgba()))
+    pillow = io.BytesIO()
+    image.save(pillow, format="png", compress_level=1)
+    assert len(png) < 1.5 * len(pillow.getvalue())     # compressed about as well
+
+
 def test_widget_keeps_its_background_over_small_steps_and_redraws_when_limits_change():
     """Driven through the slider: the kept background is reused over small changes of dt,
     redrawn when a limit changes, and every picture equals a full redraw of the figure;
