@@ -28,22 +28,44 @@ import numpy as np
 WEIGHTS = (1.0, 1.0, 0.6)
 
 
-def periodic_offsets(X: np.ndarray, box: float) -> tuple[np.ndarray, np.ndarray]:
+def periodic_offsets(X: np.ndarray, box: float, out=None) -> tuple[np.ndarray, np.ndarray]:
     """``(dx, dy)``: ``dx[..., i, j] = x_j - x_i`` (m) to the nearest periodic image, each
     ``(..., N, N)`` for ``X`` of shape ``(..., N, 2)`` (leading axes: independent flocks).
 
     Two ``(N, N)`` arrays rather than one ``(N, N, 2)``: every later sum then runs over
-    contiguous memory, about twice as fast for a flock of 80.
+    contiguous memory, about twice as fast for a flock of 80. ``out``: optional
+    :class:`FlockBuffers` to write into instead of new arrays (same numbers).
     """
+    b = FlockBuffers(np.shape(X)) if out is None else out
     x, y = X[..., 0], X[..., 1]
-    dx, dy = x[..., None, :] - x[..., :, None], y[..., None, :] - y[..., :, None]
-    dx -= box * np.rint(dx / box)
-    dy -= box * np.rint(dy / box)
-    return dx, dy
+    for c, d in ((x, b.dx), (y, b.dy)):
+        np.subtract(c[..., None, :], c[..., :, None], out=d)
+        np.divide(d, box, out=b.tmp)           # d -= box * rint(d / box), without temporaries
+        np.rint(b.tmp, out=b.tmp)
+        b.tmp *= box
+        d -= b.tmp
+    return b.dx, b.dy
+
+
+class FlockBuffers:
+    """Work arrays of :func:`flock_acceleration` for positions of shape ``(..., N, 2)``:
+    float ``dx, dy, tmp, dist2, weight, inv2`` and bool ``near, close``, each ``(..., N, N)``.
+
+    A run reuses one set for every step. Fresh ``(..., N, N)`` temporaries each step cost
+    more than the arithmetic: the allocator hands their memory back to the system and
+    takes it again (page faults, counted as system CPU time), 3 of the 4 s of 16 flocks of
+    80 over 600 steps on Linux.
+    """
+
+    def __init__(self, shape: tuple[int, ...]):
+        pairs = (*shape[:-1], shape[-2])
+        self.dx, self.dy, self.tmp, self.dist2, self.weight, self.inv2 = (
+            np.empty(pairs) for _ in range(6))
+        self.near, self.close = np.empty(pairs, dtype=bool), np.empty(pairs, dtype=bool)
 
 
 def flock_acceleration(X, V, box: float = 10.0, radius: float = 1.5, r_sep: float = 0.5,
-                       weights=WEIGHTS) -> np.ndarray:
+                       weights=WEIGHTS, buffers: FlockBuffers | None = None) -> np.ndarray:
     """Steering acceleration (m/s²) of every boid, shape ``(..., N, 2)``.
 
     Parameters
@@ -60,16 +82,21 @@ def flock_acceleration(X, V, box: float = 10.0, radius: float = 1.5, r_sep: floa
         Separation acts on neighbours closer than this (m).
     weights : (float, float, float)
         Weights of separation, alignment and cohesion; 0 switches a rule off.
+    buffers : FlockBuffers, optional
+        Work arrays for ``X``'s shape, reused from call to call (same numbers, less time).
     """
     w_sep, w_ali, w_coh = weights
     V = np.asarray(V, dtype=float)
-    dx, dy = periodic_offsets(np.asarray(X, dtype=float), box)
-    dist2 = dx * dx
-    dist2 += dy * dy
-    near = dist2 < radius**2
+    X = np.asarray(X, dtype=float)
+    b = FlockBuffers(X.shape) if buffers is None else buffers
+    dx, dy = periodic_offsets(X, box, out=b)
+    dist2 = np.multiply(dx, dx, out=b.dist2)
+    dist2 += np.multiply(dy, dy, out=b.tmp)
+    near = np.less(dist2, radius**2, out=b.near)
     diagonal = np.arange(near.shape[-1])
     near[..., diagonal, diagonal] = False              # a boid is not its own neighbour
-    weight = near.astype(float)
+    weight = b.weight
+    np.copyto(weight, near)                            # 1.0 for a neighbour, else 0.0
     count = np.count_nonzero(near, axis=-1).astype(float)
     safe = np.maximum(count, 1.0)[..., None]           # a boid alone feels no pull
     out = np.zeros_like(V)
@@ -79,9 +106,11 @@ def flock_acceleration(X, V, box: float = 10.0, radius: float = 1.5, r_sep: floa
     if w_ali:
         out += w_ali * np.where(count[..., None] > 0, weight @ V / safe - V, 0.0)
     if w_sep:
-        close = dist2 < r_sep**2
+        close = np.less(dist2, r_sep**2, out=b.close)
         close &= near
-        inv2 = np.divide(1.0, dist2, out=np.zeros_like(dist2), where=close)
+        inv2 = b.inv2
+        inv2.fill(0.0)
+        np.divide(1.0, dist2, out=inv2, where=close)
         out -= w_sep * np.stack((np.einsum("...ij,...ij->...i", inv2, dx),
                                  np.einsum("...ij,...ij->...i", inv2, dy)), axis=-1)
     return out
@@ -125,8 +154,9 @@ def _fly(X, V, steps: int, dt: float, box: float, weights, speed, keep_positions
     if keep_positions:
         Xs[0] = X
     lo, hi = speed
+    buffers = FlockBuffers(X.shape)
     for k in range(steps):
-        V = V + dt * flock_acceleration(X, V, box, weights=weights)
+        V = V + dt * flock_acceleration(X, V, box, weights=weights, buffers=buffers)
         s = np.linalg.norm(V, axis=-1, keepdims=True)
         V = V * np.clip(s, lo, hi) / np.maximum(s, 1e-12)
         X = (X + dt * V) % box
