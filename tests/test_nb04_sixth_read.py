@@ -61,8 +61,10 @@ def test_timing_cell_reads_cpu_time_best_of_three(timing_run):
 
 def test_step_costs_follow_the_evaluations_and_an_implicit_step_costs_tens(timing_run):
     """What cell 19 says holds on any machine, in ratios of CPU times (best of three):
-    explicit steps cost roughly their f-evaluations (1, 2, 4; measured 1.7 and 4.3 to 4.9
-    under load; asserted within a factor two of the evaluation ratio, and in order), an
+    explicit steps cost roughly their f-evaluations (1, 2, 4; measured 1.7 and 4.3 to 4.9,
+    and 3.2 and 8.0 with eight other processes on the two cores: a cheap f leaves room for
+    the stages' own array work; asserted within a factor three of the evaluation ratio, and
+    in order), an
     implicit step costs tens of forward Euler steps (measured 37 to 66; asserted 10 to 200),
     so the trapezoid's run is not much cheaper than forward Euler's (measured 1.6 to 2.6
     times as long; asserted at least half) and backward Euler's is cheaper (0.4 to 0.67)."""
@@ -70,7 +72,7 @@ def test_step_costs_follow_the_evaluations_and_an_implicit_step_costs_tens(timin
     r = {m: per_step[m] / per_step["forward_euler"] for m in STIFF}
     for m in ("midpoint", "rk4"):
         evals = cl.EVALS_PER_STEP[m] / cl.EVALS_PER_STEP["forward_euler"]     # 2 and 4
-        assert evals / 2 <= r[m] <= 2 * evals, (m, r)
+        assert evals / 3 <= r[m] <= 3 * evals, (m, r)
     assert 1 < r["midpoint"] < r["rk4"], r
     for m in ("backward_euler", "trapezoidal"):
         assert 10 <= r[m] <= 200, (m, r)
