@@ -2,7 +2,9 @@
 
 The first run creates ``.venv-nbgrader`` (a pinned nbgrader, about a minute); later runs
 reuse it. nbgrader's kernel is the course's own Python (a kernelspec on JUPYTER_PATH),
-so nbgrader's dependencies never enter ``.venv``.
+so nbgrader's dependencies never enter ``.venv``. nbgrader's commands run one after the
+other in a single process of that venv (:data:`DRIVER`): its start costs seconds of CPU
+(imports), paid once rather than once per command.
 """
 
 import copy
@@ -11,6 +13,7 @@ import json
 import os
 import subprocess
 import sys
+import textwrap
 
 import nbformat
 import pytest
@@ -27,6 +30,27 @@ from course_lib.instructor.notebooks import make_student_notebook
 
 VENV = ROOT / ".venv-nbgrader"
 A02, A05 = "02_forward_euler", "05_newtons_second_law"
+#: Runs ``nbgrader <args>`` for each JSON list of arguments read from stdin, in this one
+#: process, and answers each with a line ``MARK {"code": exit code, "output": ...}``.
+DRIVER = textwrap.dedent("""
+    import contextlib, io, json, sys, traceback
+    from nbgrader.apps.nbgraderapp import NbGraderApp
+    for line in sys.stdin:
+        out, code = io.StringIO(), 0
+        try:
+            with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
+                NbGraderApp.launch_instance(json.loads(line))
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else int(exc.code is not None)
+        except BaseException:
+            code, _ = 1, out.write(traceback.format_exc())
+        app = NbGraderApp.instance()
+        if getattr(app, "subapp", None) is not None:
+            type(app.subapp).clear_instance()
+        NbGraderApp.clear_instance()
+        print(sys.argv[1], json.dumps({"code": code, "output": out.getvalue()}), flush=True)
+""")
+MARK = "@@nbgrader-done@@"
 
 
 def nbgrader_meta(nb):
@@ -79,14 +103,31 @@ def course(tmp_path_factory):
     env = {**os.environ, "PATH": f"{exe.parent}{os.pathsep}{os.environ['PATH']}",
            "JUPYTER_PATH": str(root / "jupyter")}
 
-    def nbgrader(*args):
-        done = subprocess.run([str(exe), *args], cwd=root, env=env, capture_output=True,
-                              text=True, timeout=900)
-        assert done.returncode == 0, done.stdout + done.stderr
-        return done
+    proc = subprocess.Popen([str(exe.parent / "python"), "-c", DRIVER, MARK], cwd=root, env=env,
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
 
-    nbgrader("generate_assignment", A02, "--force")  # one notebook proves the mechanism
-    return root, nbgrader
+    def nbgrader(*args):
+        proc.stdin.write(json.dumps(list(args)) + "\n")
+        proc.stdin.flush()
+        printed = []
+        for line in proc.stdout:
+            if line.startswith(MARK + " "):
+                done = json.loads(line[len(MARK) + 1:])
+                assert done["code"] == 0, "".join(printed) + done["output"]
+                return done
+            printed.append(line)
+        raise AssertionError(f"nbgrader {args} ended the process: {''.join(printed)}")
+
+    try:
+        nbgrader("generate_assignment", A02, "--force")  # one notebook proves the mechanism
+        yield root, nbgrader
+    finally:
+        proc.stdin.close()
+        try:
+            proc.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
 
 
 @pytest.mark.parametrize("assignment", [A02])
