@@ -78,6 +78,7 @@ class _Budget:
     def __init__(self, max_bytes: int):
         self.bytes = max_bytes
         self.items = MAX_ITEMS
+        self.opaque = False  # whether anything was encoded as opaque
 
     def spend(self, items: int = 1, nbytes: int = 0) -> None:
         self.items -= items
@@ -91,6 +92,15 @@ def encode(value: object, max_bytes: int = 32 << 20) -> object:
     return _encode(value, _Budget(max_bytes), 0)
 
 
+def encode_flagged(value: object, max_bytes: int = 32 << 20) -> tuple[object, bool]:
+    """:func:`encode`, and whether the result holds something opaque (what
+    :func:`has_opaque` would say, known without a second walk over the result: the
+    recorder asks for every callback call, thousands per check)."""
+    budget = _Budget(max_bytes)
+    encoded = _encode(value, budget, 0)
+    return encoded, budget.opaque
+
+
 def _encode(v: object, budget: _Budget, depth: int) -> object:
     if depth > MAX_DEPTH:
         raise EncodingLimit("the returned value is nested too deeply to grade")
@@ -100,6 +110,7 @@ def _encode(v: object, budget: _Budget, depth: int) -> object:
             budget.spend(nbytes=len(v))
             return {"str": v[:MAX_STRING]}
         if type(v) is int and abs(v) > 1 << 1000:
+            budget.opaque = True
             return {"opaque": "int (too large)"}
         return v
     if type(v) is float:
@@ -110,6 +121,7 @@ def _encode(v: object, budget: _Budget, depth: int) -> object:
         arr = np.asarray(v)
         plain = type(v) is np.ndarray or type(v) is arr.dtype.type
         if arr.dtype.kind not in "biufc" or not plain:
+            budget.opaque = True
             return {"opaque": f"numpy {arr.dtype} {type(v).__name__}"}
         budget.spend(items=arr.size, nbytes=arr.nbytes)
         return {"npy": _npy(np.array(arr, order="C")), "scalar": isinstance(v, np.generic)}
@@ -119,6 +131,7 @@ def _encode(v: object, budget: _Budget, depth: int) -> object:
     if isinstance(v, dict):
         return {"dict": [[_encode(k, budget, depth + 1), _encode(x, budget, depth + 1)]
                          for k, x in list(v.items())]}
+    budget.opaque = True
     return {"opaque": type(v).__qualname__}
 
 
@@ -262,6 +275,8 @@ def summary(value: object, depth: int = 0) -> object:
 
 def same(a: object, b: object, rtol: float = 1e-7, atol: float = 1e-12) -> bool:
     """Whether two :func:`summary` results describe the same value (floats within tolerance)."""
+    if a == b:  # the usual case in a replay, compared in C; equal floats are within tolerance
+        return True
     if isinstance(a, list) and isinstance(b, list):
         if len(a) != len(b):
             return False

@@ -89,8 +89,8 @@ class Recorder:
                 return value(*args, **kwargs)
             entry = {"arg": key}
             try:  # arguments the codec cannot carry (a function of the student's) are not replayed
-                encoded = codec.encode([list(args), kwargs], 1 << 20)
-                entry["args"] = None if codec.has_opaque(encoded) else encoded
+                encoded, opaque = codec.encode_flagged([list(args), kwargs], 1 << 20)
+                entry["args"] = None if opaque else encoded
             except Exception:
                 entry["args"] = None
             log.append(entry)
