@@ -143,6 +143,16 @@ def test_codec_flags_opaque_values_as_has_opaque_finds_them():
     assert sum(codec.encode_flagged(v)[1] for v in values) == 6
 
 
+def test_codec_summary_samples_arrays_as_float_pairs():
+    s = codec.summary
+    assert s(np.array([1, 2], np.int8))["sample"] == [[1.0, 0.0], [2.0, 0.0]]
+    assert s(np.complex64(1 - 2j)) == {"array": "c", "shape": [], "sample": [[1.0, -2.0]]}
+    big = s(np.arange(1000.0).reshape(10, 100))
+    assert big["shape"] == [10, 100] and [p[0] for p in big["sample"]] == [20.0 * k for k in range(48)]
+    assert all(type(x) is float for p in big["sample"] + s(np.bool_(True))["sample"] for x in p)
+    assert s(np.zeros(0))["sample"] == [] and s(np.array(["a"])) == {"array": "<U1", "shape": [1]}
+
+
 def test_codec_same_compares_summaries_within_tolerance():
     s = codec.summary
     x = np.array([1.0, np.nan, -2.5])
@@ -252,6 +262,16 @@ def test_reference_use_in_the_grader_and_in_the_check(body, flagged):
         assert verdict["status"] == "incorrect" and "uses the reference" in verdict["failed_cases"][0]
     else:
         assert binding.reference is None and verdict["reference"] is None
+    # the worker judges through a Recorder, whose bookkeeping runs with the watch paused:
+    # the student's function (and what it calls) is still watched, and the watch comes back
+    before = sys.getprofile()
+    with contextlib.redirect_stdout(io.StringIO()):
+        recorded = evaluate(check, Recorder(namespace["forward_euler_step"], 8 << 20))
+    assert sys.getprofile() is before and recorded["status"] == verdict["status"]
+    if flagged in ("course_lib", "forward_euler", "backward_euler"):  # calls made at run time
+        assert "uses the reference" in recorded["reference"]
+    elif flagged is None:
+        assert recorded["reference"] is None
 
 
 # --- replaying recorded calls ----------------------------------------------------------

@@ -6,12 +6,31 @@ keeps the student's part of a traceback. Runs inside the sandboxed worker, so it
 only the standard library and :mod:`.codec`.
 """
 
+import contextlib
 import functools
 import io
+import sys
 import traceback
 import types
 
 from . import codec
+
+_getprofile, _setprofile = sys.getprofile, sys.setprofile  # bound before any student code
+
+
+@contextlib.contextmanager
+def _profile(hook):
+    """``hook`` as the profile function for the block (the previous one after it). The
+    recorder's own bookkeeping runs with none: a check's library watch
+    (:mod:`course_lib.check.watch`) is a profile hook that has nothing to say about the
+    recorder and cost it most of its time (a Python call per call and return); the
+    student's function and the check's callbacks still run under the watch."""
+    previous = _getprofile()
+    _setprofile(hook)
+    try:
+        yield
+    finally:
+        _setprofile(previous)
 
 
 class Timeout(BaseException):
@@ -87,24 +106,27 @@ class Recorder:
         def spy(*args, **kwargs):
             if len(log) >= MAX_CALLBACKS:  # past the cap a call is made, not kept
                 return value(*args, **kwargs)
-            entry = {"arg": key}
-            try:  # arguments the codec cannot carry (a function of the student's) are not replayed
-                encoded, opaque = codec.encode_flagged([list(args), kwargs], 1 << 20)
-                entry["args"] = None if opaque else encoded
-            except Exception:
-                entry["args"] = None
-            log.append(entry)
-            try:
-                out = value(*args, **kwargs)
-            except Timeout:
-                # the time limit struck inside the check's own function: not something the
-                # function raised, and the replay stops at this call anyway
-                entry["interrupted"] = True
-                raise
-            except BaseException as exc:
-                entry["raised"] = type(exc).__name__
-                raise
-            entry["sig"] = codec.summary(out)
+            watch = _getprofile()
+            with _profile(None):
+                entry = {"arg": key}
+                try:  # arguments the codec cannot carry (a function of the student's) are not replayed
+                    encoded, opaque = codec.encode_flagged([list(args), kwargs], 1 << 20)
+                    entry["args"] = None if opaque else encoded
+                except Exception:
+                    entry["args"] = None
+                log.append(entry)
+                try:
+                    with _profile(watch):
+                        out = value(*args, **kwargs)
+                except Timeout:
+                    # the time limit struck inside the check's own function: not something the
+                    # function raised, and the replay stops at this call anyway
+                    entry["interrupted"] = True
+                    raise
+                except BaseException as exc:
+                    entry["raised"] = type(exc).__name__
+                    raise
+                entry["sig"] = codec.summary(out)
             return out
 
         return functools.update_wrapper(spy, value)
@@ -123,35 +145,38 @@ class Recorder:
             raise
 
     def _record(self, made: list, args: tuple, kwargs: dict):
-        codec = self.codec
-        items = list(enumerate(args)) + list(kwargs.items())
-        before = {str(k): codec.fingerprint(v) for k, v in items}
-        log: list = []
-        call = {"sig": codec.summary([list(args), kwargs]), "callbacks": log}
-        self.calls.append(call)
-        made.append(call)
-        spied = [self._spy(a, str(i), log) for i, a in enumerate(args)]
-        spied_kw = {k: self._spy(v, k, log) for k, v in kwargs.items()}
-        try:
-            value = self.fn(*spied, **spied_kw)
-        except Timeout:
-            call["timeout"] = True
-            raise
-        except BaseException as exc:
-            call["raised"] = codec.exception_record(exc)
-            call["traceback"] = excerpt(exc)
+        watch = _getprofile()
+        with _profile(None):
+            codec = self.codec
+            items = list(enumerate(args)) + list(kwargs.items())
+            before = {str(k): codec.fingerprint(v) for k, v in items}
+            log: list = []
+            call = {"sig": codec.summary([list(args), kwargs]), "callbacks": log}
+            self.calls.append(call)
+            made.append(call)
+            spied = [self._spy(a, str(i), log) for i, a in enumerate(args)]
+            spied_kw = {k: self._spy(v, k, log) for k, v in kwargs.items()}
+            try:
+                with _profile(watch):
+                    value = self.fn(*spied, **spied_kw)
+            except Timeout:
+                call["timeout"] = True
+                raise
+            except BaseException as exc:
+                call["raised"] = codec.exception_record(exc)
+                call["traceback"] = excerpt(exc)
+                self._mutations(call, items, before)
+                raise codec.rebuild_exception(call["raised"]) from None
             self._mutations(call, items, before)
-            raise codec.rebuild_exception(call["raised"]) from None
-        self._mutations(call, items, before)
-        try:
-            call["result"] = codec.encode(value, self.max_bytes)
-        except codec.EncodingLimit as exc:
-            call["result"] = {"opaque": str(exc)}
-        except Timeout:
-            raise
-        except BaseException as exc:
-            call["result"] = {"opaque": f"{type(value).__name__} (unreadable: {type(exc).__name__})"}
-        return codec.decode(call["result"])  # the worker's check sees what the grader's will
+            try:
+                call["result"] = codec.encode(value, self.max_bytes)
+            except codec.EncodingLimit as exc:
+                call["result"] = {"opaque": str(exc)}
+            except Timeout:
+                raise
+            except BaseException as exc:
+                call["result"] = {"opaque": f"{type(value).__name__} (unreadable: {type(exc).__name__})"}
+            return codec.decode(call["result"])  # the worker's check sees what the grader's will
 
     def _mutations(self, call: dict, items: list, before: dict) -> None:
         changed = {str(k): v for k, v in items if self.codec.fingerprint(v) != before[str(k)]}
