@@ -265,23 +265,19 @@ def build(root: Path, grader_file: Path, net: dict) -> dict[str, dict[str, list[
             except OSError as exc:  # gaierror included
                 print("refused:", what, exc)
         """
-    student("network_tcp_02", s02=ok02)
+    student("network_02", s02=ok02)  # every way out, one after the other: each must fail
     Sub(A02).solve().add(attempts + f"""
         import socket
         attempt("tcp", lambda: socket.create_connection(("127.0.0.1", {net['tcp']}), timeout=2))
         attempt("listen", lambda: socket.create_server(("127.0.0.1", 0)))
         attempt("unix", lambda: socket.socket(socket.AF_UNIX).connect({str(net['unix'])!r}))
         attempt("raw", lambda: socket.socket(socket.AF_INET, socket.SOCK_RAW, socket.IPPROTO_ICMP))
-        """).write(nb02("network_tcp_02"))
-    student("network_dns_02", s02=ok02)
-    Sub(A02).solve().add(attempts + f"""
-        import socket
         attempt("getaddrinfo", lambda: socket.getaddrinfo("example.com", 443))
         attempt("gethostbyname", lambda: socket.gethostbyname("pypi.org"))
         query = bytes.fromhex({DNS_QUERY!r})  # what the resolver sends, to a resolver the test runs
         attempt("udp", lambda: socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
                 .sendto(query, ("127.0.0.1", {net['udp']})))
-        """).write(nb02("network_dns_02"))
+        """).write(nb02("network_02"))
     student("thread_escape_02", s02=ok02)  # another thread of the worker does the work
     Sub(A02).solve().add(f"""
         import os, socket, threading, time
