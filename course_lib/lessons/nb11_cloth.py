@@ -134,10 +134,17 @@ def rest_state(c: cloth.Cloth, start=None, gravity=(0.0, -9.81, 0.0)):
         force = c.network.forces(x) + c.mass[:, None] * g
         return c.network.energy(x) - np.sum(c.mass * (x @ g)), -force[free].ravel()
 
+    linearized = {}        # the linearization at the current point, built once per point:
+                           # trust-krylov asks for many products at each point it visits
+
     def hessian_product(z, p):
+        key = z.tobytes()
+        if key not in linearized:
+            linearized.clear()
+            linearized[key] = c.network.linearize(full(z), definite=False)
         q = np.zeros_like(start)
         q[free] = p.reshape(-1, 3)
-        return c.network.linearize(full(z), definite=False).product(q, stiffness=1.0)[free].ravel()
+        return linearized[key].product(q, stiffness=1.0)[free].ravel()
 
     found = minimize(energy_and_gradient, np.asarray(start)[free].ravel(), jac=True,
                      hessp=hessian_product, method="trust-krylov", options={"gtol": 1e-11})
