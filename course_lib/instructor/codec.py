@@ -288,8 +288,7 @@ def same(a: object, b: object, rtol: float = 1e-7, atol: float = 1e-12) -> bool:
 
 
 def _close(x: float, y: float, rtol: float, atol: float) -> bool:
-    """``np.isclose(x, y, rtol, atol, equal_nan=True)`` for two floats (a short list of
-    numbers per recorded call: NumPy's call overhead cost more than the comparison)."""
+    """``np.isclose(x, y, rtol, atol, equal_nan=True)``, without NumPy's per-call overhead."""
     if x == y:
         return True
     if math.isnan(x) or math.isnan(y):
