@@ -69,3 +69,34 @@ def cpu_only_clock(what: str = "the timing"):
     clock = types.SimpleNamespace(process_time=process_time, perf_counter=wall, time=wall,
                                   monotonic=wall, perf_counter_ns=wall, time_ns=wall)
     return clock, reads
+
+
+def drive_kept_figure(view, moves):
+    """Drive a widget whose figure keeps its background (``widgets.BlitPlot``) through
+    ``moves``, ``(control, value)`` pairs, as a student does, by setting ``.value``.
+
+    After each move the picture must equal a full redraw of the same figure (fewer than
+    0.2 % of the pixels differ: anti-aliasing at the edges of kept artists). Yields
+    ``(control, value, result, redrawn)``; ``redrawn`` says whether the move drew the whole
+    figure (its background) rather than only what moves.
+    """
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    canvas, draws = view.draw.fig.canvas, []
+    real_draw = canvas.draw
+    canvas.draw = lambda: (draws.append(1), real_draw())[1]
+    for name, value in moves:
+        before = len(draws)
+        view.controls[name].value = value
+        redrawn = len(draws) > before
+        shown = np.asarray(Image.open(io.BytesIO(view.image.value))).astype(int)
+        view.draw._key = None                        # forget the background: a full redraw
+        after = len(draws)
+        full = np.asarray(Image.open(io.BytesIO(view.draw.png()))).astype(int)
+        assert len(draws) == after + 1, "a forced redraw draws the figure once"
+        assert shown.shape == full.shape and np.mean(np.any(shown != full, axis=-1)) < 2e-3, \
+            (name, value)
+        yield name, value, view.result, redrawn

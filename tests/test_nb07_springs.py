@@ -4,7 +4,7 @@ import itertools
 
 import numpy as np
 import pytest
-from notebook_helpers import printed_holds
+from notebook_helpers import drive_kept_figure, printed_holds
 from planted import Plant, define, judge
 
 import course_lib as cl
@@ -467,26 +467,12 @@ def test_spring_widget_redraws_only_the_curves_and_its_picture_is_right():
     """Driven through its sliders: small changes of dt reuse the kept background (axes,
     ticks, legend), a change of limits, scale or legend redraws it, and each picture equals
     a full redraw of the figure; every panel's limits hold what it draws."""
-    import io
-
-    from PIL import Image
-
     view = nb07.spring_explorer(k=10.0, c=0.0, dt=0.05)
-    canvas, full_draws = view.draw.fig.canvas, []
-    real_draw = canvas.draw
-    canvas.draw = lambda: (full_draws.append(1), real_draw())[1]
     moves = [("dt", 0.0505), ("dt", 0.051), ("dt", 0.0515), ("dt", 0.7), ("method", "rk4"),
              ("dt", 1e-3), ("c", 2.0), ("method", "backward_euler"), ("dt", 0.5)]
     redrawn = []
-    for name, value in moves:
-        before = len(full_draws)
-        view.controls[name].value = value
-        redrawn.append(len(full_draws) > before)
-        run = view.result
-        a = np.asarray(Image.open(io.BytesIO(view.image.value))).astype(int)
-        view.draw._key = None                        # forget the background: a full redraw
-        b = np.asarray(Image.open(io.BytesIO(view.draw.png()))).astype(int)
-        assert a.shape == b.shape and np.mean(np.any(a != b, axis=-1)) < 2e-3, (name, value)
+    for name, value, run, fresh in drive_kept_figure(view, moves):
+        redrawn.append(fresh)
         ax_x, ax_e, ax_E = view.figure.axes
         last = run.blowup_step - 1 if run.blowup_step is not None else run.t.size - 1
         floor = 1e-8 * run.exact_energy[0]        # the energy panel's lowest decade
