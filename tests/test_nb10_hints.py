@@ -5,7 +5,7 @@ for one n. Each answer is written the way a notebook cell writes it."""
 
 import numpy as np
 import pytest
-from test_nb10_flocking import _SWEEP
+from test_nb10_flocking import _SWEEP, _grid_source
 
 from course_lib.check import FAILURES, evaluate
 from course_lib.check import _nb10_cases as cases
@@ -277,29 +277,9 @@ def neighbour_pairs(x, radius):
     return i[keep], j[keep]
 """
 
-#: A vectorized grid: points sorted by cell, each neighbouring cell found by searchsorted.
-GRID_VECTORIZED = """
-def neighbour_pairs(x, radius):
-    x = np.asarray(x, dtype=float)
-    cell = np.floor(x / radius).astype(np.int64)
-    cell -= cell.min(axis=0) - 1
-    width = cell[:, 1].max() + 2
-    key = cell[:, 0] * width + cell[:, 1]
-    order = np.argsort(key, kind="stable")
-    sorted_key = key[order]
-    i_all, j_all = [], []
-    for dx in (-1, 0, 1):
-        for dy in (-1, 0, 1):
-            lo = np.searchsorted(sorted_key, key + dx * width + dy, "left")
-            count = np.searchsorted(sorted_key, key + dx * width + dy, "right") - lo
-            i_all.append(np.repeat(np.arange(len(x)), count))
-            start = np.repeat(lo - np.cumsum(count) + count, count)
-            j_all.append(order[start + np.arange(count.sum())])
-    i, j = np.concatenate(i_all), np.concatenate(j_all)
-    d = x[j] - x[i]
-    keep = (i < j) & ((d ** 2).sum(axis=1) <= radius ** 2)
-    return i[keep], j[keep]
-"""
+#: A vectorized grid: points sorted by cell, each neighbouring cell found by searchsorted
+#: (the right answer that test_nb10_flocking varies one mistake at a time).
+GRID_VECTORIZED = _grid_source()
 
 NEIGHBOURS = {
     "a sweep along x, a loop over the points": (SWEEP_LOOP.format(axis=0), "sweep along x"),
