@@ -35,13 +35,15 @@ lab: $(STAMP)
 
 # Every test, in stages (each timed; a table at the end says where the time went):
 #   setup, lint, unit (unit and property tests, doctests), notebooks (strict nbval of the
-#   solutions, each re-run bottom to top in its kernel, and the student versions, whose
-#   cells are stored unrun so strict nbval only runs them, as --nbval-lax would), second
-#   rounding (the tests marked roundoff and strict nbval of the solutions again, with
-#   NumPy's SIMD kernels one level down: tests/roundings.py), browser.
+#   solutions, each re-run bottom to top in its kernel), second rounding (with NumPy's SIMD
+#   kernels one level down, tests/roundings.py: the tests marked roundoff, and each student
+#   version paired with its solution, tests/paired.py: the student's cells run top to
+#   bottom, those it shares with the solution compared with the solution's stored outputs,
+#   then the solution's answers, compared too; so every solution cell is compared strictly
+#   and every student cell run, in one kernel per notebook), browser.
 # Figures are rasterized once, in the strict pass of the solutions (and in the browser):
-# the student versions and the second rounding run every cell but draw each PNG as a blank
-# pixel (--nbval-skip-raster, tests/skip_raster_startup.py), a third of their running time.
+# the second rounding runs every cell but draws each PNG as a blank pixel
+# (--nbval-skip-raster, tests/skip_raster_startup.py), a third of its running time.
 # A failing stage does not stop the later ones; `make test` fails if any failed.
 # pytest exits 5 when it collects nothing; tools/stage.py counts that as a pass.
 # One BLAS thread per process: two pytest-xdist workers on two cores already fill the
@@ -80,11 +82,11 @@ test-unit: $(STAMP)
 	@$(STAGE) run unit -- env $(CI_HYPOTHESIS) $(PYTEST) $(XDIST) -p no:cacheprovider \
 		tests --ignore=tests/browser --doctest-modules course_lib
 
-# Solutions (strict, then re-run in RERUN_ORDERS) and student versions in one run.
+# Solutions, strict, then re-run in RERUN_ORDERS (the student versions run in test-rounding).
 test-nbval: $(STAMP)
 	@$(STAGE) run notebooks -- $(PYTEST) $(XDIST) --nbval $(NBVAL) --nbval-rerun=solutions \
 		--nbval-rerun-orders=$(RERUN_ORDERS) --nbval-rerun-max-seconds=$(RERUN_MAX_SECONDS) \
-		--nbval-skip-raster=notebooks solutions notebooks
+		solutions
 
 test-solutions: $(STAMP)
 	@$(STAGE) run solutions -- $(PYTEST) $(XDIST) --nbval $(NBVAL) solutions
@@ -92,12 +94,15 @@ test-solutions: $(STAMP)
 test-notebooks: $(STAMP)
 	@$(STAGE) run student-versions -- $(PYTEST) $(XDIST) --nbval-lax $(NBVAL) notebooks
 
-# The second rounding: prints the rounding each pass uses, then runs under the lower one.
+# The second rounding: prints the rounding each pass uses, then runs under the lower one
+# the roundoff tests and the paired notebooks (build/paired, written by tests/paired.py).
+PAIRED := build/paired
 test-rounding: $(STAMP)
 	@$(BIN)/python tests/roundings.py
+	@rm -rf $(PAIRED) && $(BIN)/python tests/paired.py $(PAIRED) solutions notebooks
 	@$(STAGE) run second-rounding -- $(BIN)/python tests/roundings.py run \
 		env $(CI_HYPOTHESIS) $(PYTEST) $(XDIST) -m roundoff --nbval $(NBVAL) \
-		--nbval-skip-raster=solutions $(ROUNDOFF_TESTS) solutions
+		--nbval-skip-raster=$(PAIRED) $(ROUNDOFF_TESTS) $(PAIRED)
 
 # Property tests with Hypothesis's random search and FUZZ_FACTOR (10) times the examples;
 # failures are kept in .hypothesis/ and replayed first next time.

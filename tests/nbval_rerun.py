@@ -10,8 +10,8 @@ code cell runs once more bottom to top, then once more in a seeded random order,
 test fails with the list of cells that raised. Cells marked to raise
 (``NBVAL_RAISES_EXCEPTION``, tag ``raises-exception``) or skipped (``NBVAL_SKIP``) are left
 out. Reusing nbval's kernel saves a third run of every notebook. Every nbval cell is marked
-``roundoff`` (stored outputs quote numbers), so ``pytest -m roundoff --nbval solutions``
-repeats them under the second rounding.
+``roundoff`` (stored outputs quote numbers), so ``pytest -m roundoff --nbval build/paired``
+repeats them under the second rounding (the notebooks tests/paired.py writes).
 """
 
 from __future__ import annotations
