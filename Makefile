@@ -67,8 +67,10 @@ NBVAL  := --nbval-current-env --nbval-sanitize-with tests/sanitize.cfg -p no:cac
 STAGE  := $(PYTHON) tools/stage.py
 # Parallel test processes (pytest-xdist); --dist loadfile keeps a file's tests (a
 # notebook's cells, a module's shared fixture) on one worker.
+# Files start in the order of tests/schedule.py (the costliest first), not xdist's default
+# (the files with the most tests first).
 JOBS   ?= 2
-XDIST  := -n $(JOBS) --dist loadfile
+XDIST  := -n $(JOBS) --dist loadfile --no-loadscope-reorder
 # Hypothesis: derandomized in make test (reproducible anywhere), random in make fuzz.
 CI_HYPOTHESIS := HYPOTHESIS_PROFILE=ci
 ROUNDOFF_TESTS = $(shell grep -l "mark.roundoff" tests/test_*.py)

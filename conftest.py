@@ -4,7 +4,8 @@ Jupyter, IPython and matplotlib read and write config, runtime and cache files; 
 them at a fresh temporary folder before any kernel starts, so tests see no personal
 settings and leave nothing behind. The nbval plugin of ``make test`` (``--nbval-rerun``,
 ``roundoff`` on nbval's cells) lives in ``tests/nbval_rerun.py`` and is loaded here, so
-that it applies to ``solutions/`` and ``notebooks/`` too.
+that it applies to ``solutions/`` and ``notebooks/`` too, as does ``tests/schedule.py`` (the
+costliest files first, for pytest-xdist).
 """
 
 import os
@@ -36,3 +37,5 @@ from nbval_rerun import (  # noqa: E402, F401  (hooks of the nbval plugin)
     pytest_runtest_logreport,
     pytest_runtest_setup,
 )
+
+pytest_plugins = ["schedule"]
