@@ -1,6 +1,8 @@
 """The two-command setup: pins agree everywhere, CI calls the README's test command."""
 
 import re
+import subprocess
+import sys
 
 import pytest
 from notebook_helpers import ROOT
@@ -72,3 +74,15 @@ def test_make_test_runs_every_stage_and_says_where_time_went():
     test_rule = makefile.split("\ntest:\n", 1)[1].split("\n\n", 1)[0]
     assert "$(STAGE) run setup" in test_rule and "$(STAGE) summary" in test_rule
     assert "HYPOTHESIS_PROFILE=ci" in makefile and "HYPOTHESIS_PROFILE=fuzz" in makefile
+
+
+def test_importing_nbformat_builds_no_parser():
+    """Every pytest worker, grader and Jupyter server imports nbformat, whose validator
+    imports jsonschema's format checkers: none of them may build a grammar at import
+    (rfc3987-syntax's lark parser cost 2 s of CPU per process; requirements.in says why
+    jsonschema is pinned)."""
+    probe = ("import sys, nbformat, nbformat.v4; nbformat.validate(nbformat.v4.new_notebook()); "
+             "print(sorted(m for m in ('lark', 'rfc3987_syntax') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True, timeout=120).stdout.strip()
+    assert out == "[]"
