@@ -14,9 +14,10 @@ an N × N table; the memory it allocates in all (bytes, the same on every machin
 the same for 2000 points in a square and in a long narrow band at the same density for a
 grid, but several times more in the band for a sweep along one axis, looped or vectorized;
 and on four times the points it grows about fourfold for a grid and sixteenfold for all
-pairs tested a row at a time. The separation rule may run at most :data:`SEPARATION_LINES`
-lines of Python (no loop over the pairs). Case data and the measurement:
-:mod:`course_lib.check._nb10_cases`.
+pairs tested a row at a time (that 8000-point case is skipped once a band has stopped a
+sweep: the verdict is decided, and a looped sweep would take seconds more). The separation
+rule may run at most :data:`SEPARATION_LINES` lines of Python (no loop over the pairs). Case
+data and the measurement: :mod:`course_lib.check._nb10_cases`.
 """
 
 from __future__ import annotations
@@ -225,10 +226,12 @@ def neighbour_pairs(ck: Checker, func) -> None:
     # The path through the cases depends only on the pairs returned and on the stops raised
     # inside the answer (which the grader's worker records and replays), never on a byte count
     # taken after it returned: the grader replays answers and cannot measure them.
-    later, base, swept = [], None, False    # missing pairs are judged once every case is in
+    later, base, swept, stopped = [], None, False, False   # missing pairs: judged once all are in
     for what, x, radius, role in _cases.grid_cases(_SEED + 3):
         if role in ("band", "growth") and base is None:
             break                          # the cost is measured only on a search that works
+        if role == "growth" and stopped:
+            break                          # a band stopped a sweep: decisive; 8000 points spared
         ref = neighbors.all_pairs(x, radius) if role in ("edge", "base") else neighbors.pairs(x, radius)
         expected = _pair_set(ref.i, ref.j)
         limit = {"base": {"held_limit": MEMORY_LIMIT}, "band": {"total_limit": SHAPE_LIMIT * (base or 0)},
@@ -239,6 +242,7 @@ def neighbour_pairs(ck: Checker, func) -> None:
             if type(stop).__name__ not in _cases.STOPS:
                 raise
             swept |= role == "band"
+            stopped |= role == "band"
             ck.expect(*_cases.stop_verdict(what, x, role, stop, swept))
             continue
         try:
