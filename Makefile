@@ -84,13 +84,26 @@ TEST_STAGES := lint test-unit test-nbval test-rounding test-browser
 
 # Chromium (for the browser stage) and nbgrader's own venv (for the export's tests) are
 # made in the background while pip sets up .venv; the tests wait for them on lock files.
+# The browser stage mostly waits (servers, pages, kernels): it runs alongside the notebook
+# stages (ALONGSIDE, from ALONGSIDE_FROM on), its output kept in build/alongside.log and
+# printed after them; the summary gives each stage's own times and the elapsed time.
+# `make test ALONGSIDE=` runs every stage in turn.
+ALONGSIDE ?= test-browser
+ALONGSIDE_FROM ?= test-nbval
 test:
 	@$(STAGE) reset
 	@mkdir -p build && ($(PYTHON) tools/chromium.py > build/chromium-install.log 2>&1 &)
 	@($(PYTHON) course_lib/instructor/nbgrader_venv.py .venv-nbgrader > build/nbgrader-venv.log 2>&1 &)
 	@$(STAGE) run setup -- $(MAKE) --no-print-directory setup
-	@status=0; for stage in $(TEST_STAGES); do \
+	@trap 'kill 0' INT TERM; status=0; rm -f build/alongside.rc; \
+	for stage in $(filter-out $(ALONGSIDE),$(TEST_STAGES)); do \
+		if [ -n "$(ALONGSIDE)" ] && [ "$$stage" = "$(ALONGSIDE_FROM)" ]; then \
+			{ $(MAKE) --no-print-directory $(ALONGSIDE) > build/alongside.log 2>&1; \
+			  echo $$? > build/alongside.rc; } & fi; \
 		$(MAKE) --no-print-directory $$stage || status=1; done; \
+	if [ -n "$(ALONGSIDE)" ]; then wait; \
+		echo "== $(ALONGSIDE), run alongside the stages from $(ALONGSIDE_FROM) on:"; \
+		cat build/alongside.log; [ "$$(cat build/alongside.rc 2>/dev/null)" = 0 ] || status=1; fi; \
 	$(STAGE) summary; exit $$status
 
 test-unit: $(STAMP)

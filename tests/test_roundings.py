@@ -91,6 +91,26 @@ def test_stages_are_timed_and_pytest_exit_5_passes(stage):
     assert stage.run("broken", [sys.executable, "-c", "raise SystemExit(3)"]) == 3
     assert stage.run("busy", [sys.executable, "-c", "sum(range(3_000_000))"]) == 0
     table = stage.summary()
-    assert "empty" in table and "FAILED (exit 3)" in table and "total" in table
+    assert "empty" in table and "FAILED (exit 3)" in table and "sum" in table
     busy = next(line for line in table.splitlines() if "busy" in line).split()
     assert float(busy[2].rstrip("s")) > 0   # the child's CPU time is counted
+
+
+def test_stages_run_alongside_each_other_show_less_elapsed_than_their_sum(stage):
+    """make test runs the browser stage alongside the notebook stages: the summary's
+    elapsed line is the time since reset, not the sum of the stages' walls."""
+    import threading
+    import time
+
+    assert stage.main(["reset"]) == 0
+    nap = [sys.executable, "-c", "import time; time.sleep(1.0)"]
+    runs = [threading.Thread(target=stage.run, args=(f"nap{k}", nap)) for k in range(2)]
+    for r in runs:
+        r.start()
+    for r in runs:
+        r.join()
+    time.sleep(0.05)
+    lines = {line.split()[0]: line.split() for line in stage.summary().splitlines()[2:]}
+    assert float(lines["sum"][1].rstrip("s")) >= 2.0
+    assert 1.0 <= float(lines["elapsed"][1].rstrip("s")) < 1.9
+

@@ -3,8 +3,10 @@
 ``python3 tools/stage.py run NAME -- CMD ...`` runs CMD, records its wall time and the CPU
 time (user + system) of every process it waited for (pytest, its xdist workers, kernels,
 servers), and exits with CMD's code; pytest's 5 ("no tests collected") counts as a pass.
-``reset`` starts a new record; ``summary`` prints the table. Standard library only, so it
-also times the setup that creates ``.venv``. The record is ``build/test-stages.tsv``.
+``reset`` starts a new record (and notes the time); ``summary`` prints the table: each
+stage's own times, their sums, and the time elapsed since ``reset`` (less than the sum of
+the walls when a stage ran alongside others). Standard library only, so it also times the
+setup that creates ``.venv``. The record is ``build/test-stages.tsv``.
 """
 
 from __future__ import annotations
@@ -41,6 +43,8 @@ def run(name: str, cmd: list[str]) -> int:
 def summary() -> str:
     rows = [line.split("\t") for line in RECORD.read_text().splitlines()] \
         if RECORD.exists() else []
+    started = [float(r[1]) for r in rows if r[0] == "#started"]
+    rows = [r for r in rows if not r[0].startswith("#")]
     lines = [f"make test, per stage ({os.cpu_count()} cores): wall time, CPU time of its "
              "processes, result", f"  {'stage':<18}{'wall':>9}{'CPU':>9}"]
     wall = cpu = 0.0
@@ -48,13 +52,17 @@ def summary() -> str:
         wall, cpu = wall + float(w), cpu + float(c)
         verdict = "ok" if code == "0" else f"FAILED (exit {code})"
         lines.append(f"  {name:<18}{float(w):>8.1f}s{float(c):>8.1f}s  {verdict}")
-    lines.append(f"  {'total':<18}{wall:>8.1f}s{cpu:>8.1f}s  ({wall / 60:.1f} min)")
+    lines.append(f"  {'sum':<18}{wall:>8.1f}s{cpu:>8.1f}s  ({wall / 60:.1f} min)")
+    if started:
+        elapsed = time.time() - started[0]
+        lines.append(f"  {'elapsed':<18}{elapsed:>8.1f}s{'':>9}  ({elapsed / 60:.1f} min)")
     return "\n".join(lines)
 
 
 def main(argv: list[str]) -> int:
     if argv[:1] == ["reset"]:
-        RECORD.unlink(missing_ok=True)
+        RECORD.parent.mkdir(exist_ok=True)
+        RECORD.write_text(f"#started\t{time.time():.1f}\n")
         return 0
     if argv[:1] == ["summary"]:
         print(summary())
