@@ -474,3 +474,42 @@ def test_a_capped_cost_is_quoted_as_at_least(name, source):
     assert quoted, (name, failed)
     for f in quoted:
         assert "at least" in f and "stopped at that cap" in f, f
+
+
+# --- the batched measurement: the same bytes, the stops still raised inside -----------------
+
+def test_batched_measurement_counts_every_line_and_stops_inside_the_answer():
+    """measured() sums its per-line samples in batches (and at every return): the last line
+    before a return still counts (a one-line answer that calls a library was once measured
+    as 0 bytes), a few-line answer over its total cap is stopped inside itself, so the
+    answer's own ``except Exception`` cannot swallow it and a wrapper sees it raised, and
+    a loop of a few hundred lines (longer than a batch) is summed whole."""
+    def one_line(x, radius):
+        return np.ones((len(x), 1000))                           # 8 MB on 1000 points
+
+    x = np.zeros((1000, 2))
+    _, peak, total = cases.measured(one_line, x, 1.0)
+    assert 8.0e6 <= total < 8.2e6 and 8.0e6 <= peak < 8.2e6
+
+    def few_lines(x, radius):
+        try:
+            a = np.ones((len(x), 1000))
+            b = a + 1.0
+            return b.sum()
+        except Exception:
+            return None
+
+    with pytest.raises(cases.TooCostly, match=r"allocated more than 10\.0 MB"):
+        cases.measured(few_lines, x, 1.0, total_limit=10e6)
+    assert cases.measured(few_lines, x, 1.0, total_limit=20e6)[2] > 16e6
+
+    def looped(x, radius):
+        out = []
+        for _ in range(3 * cases.BATCH):
+            out.append(np.ones(1000))                            # 8 kB a line, kept
+        return out
+
+    _, _, total = cases.measured(looped, x, 1.0)
+    assert 3 * cases.BATCH * 8000 <= total < 3 * cases.BATCH * 9000           # 8112 B an array, the list
+    with pytest.raises(cases.TooCostly):
+        cases.measured(looped, x, 1.0, total_limit=cases.BATCH * 8000 / 2)
