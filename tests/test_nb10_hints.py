@@ -513,3 +513,14 @@ def test_batched_measurement_counts_every_line_and_stops_inside_the_answer():
     assert 3 * cases.BATCH * 8000 <= total < 3 * cases.BATCH * 9000           # 8112 B an array, the list
     with pytest.raises(cases.TooCostly):
         cases.measured(looped, x, 1.0, total_limit=cases.BATCH * 8000 / 2)
+
+    done = []
+
+    def large(x, radius):
+        for step in range(100):
+            np.ones(250_000).sum()                               # 2 MB a line, freed
+            done.append(step)
+
+    with pytest.raises(cases.TooCostly):
+        cases.measured(large, x, 1.0, total_limit=10e6)
+    assert len(done) <= 6                                        # stopped at the cap, not 100 lines on
