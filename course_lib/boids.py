@@ -132,10 +132,15 @@ def all_pairs(x, v, rules: Rules):
     return i, j, d[i, j]
 
 
+def _sides(x, rules: Rules):
+    """The box as :mod:`course_lib.neighbors` wants it (validated by :class:`Rules`)."""
+    return None if rules.box is None else np.full(x.shape[1], float(rules.box))
+
+
 def _directed_pairs(x, v, rules: Rules):
     """Unsorted directed neighbour pairs ``(i, j, d, |d|²)`` from the unordered pairs of
     :func:`course_lib.neighbors.pairs`: the reverse offset is the exact negative."""
-    p = neighbors.pairs(x, rules.radius, rules.box, sort=False)
+    p = neighbors._tree_pairs(x, rules.radius, _sides(x, rules), sort=False)
     i, j = np.concatenate((p.i, p.j)), np.concatenate((p.j, p.i))
     d = np.concatenate((p.offset, -p.offset))
     dist2 = np.tile(squared_norms(p.offset), 2)
@@ -164,7 +169,11 @@ def steering(x, v, rules: Rules, method: str = "tree"):
     """
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; valid choices are: {', '.join(METHODS)}")
-    x, v = _state(x, v)
+    return _steering(*_state(x, v), rules, method)
+
+
+def _steering(x, v, rules: Rules, method: str):
+    """:func:`steering` on validated ``x``, ``v`` and ``method``."""
     n, dim = x.shape
     if method == "all_pairs":
         d, dist2, mask = _dense(x, v, rules)
@@ -203,6 +212,11 @@ def clamp_speed(v, min_speed: float, max_speed: float):
     v, min_speed = real_array("v", v, (None, None)), nonnegative("min_speed", min_speed)
     if not max_speed >= min_speed:
         raise ValueError(f"max_speed must be >= min_speed = {min_speed!r}, got {max_speed!r}")
+    return _clamp(v, min_speed, max_speed)
+
+
+def _clamp(v, min_speed: float, max_speed: float):
+    """:func:`clamp_speed` on a validated ``(N, dim)`` float ``v`` and valid limits."""
     unit, speed = _headings(v)
     target = np.clip(speed, min_speed, max_speed)
     rest = (speed[:, 0] == 0) & (target[:, 0] > 0)
@@ -282,14 +296,18 @@ def step(x, v, dt: float, rules: Rules, method: str = "tree", extra=None):
     """One step: ``v += dt a`` (rules, plus ``extra`` m/s²), speeds clamped to the limits,
     ``x += dt v``, positions wrapped into the box. Returns new ``(x, v)``."""
     dt = positive_finite("dt", dt)
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}; valid choices are: {', '.join(METHODS)}")
     x, v = _state(x, v)
-    sep, ali, coh = steering(x, v, rules, method)
+    sep, ali, coh = _steering(x, v, rules, method)
     a = rules.separation * sep + rules.alignment * ali + rules.cohesion * coh
     if extra is not None:
         a = a + np.broadcast_to(real_array("extra", extra), a.shape)
-    v_new = clamp_speed(v + dt * a, rules.min_speed, rules.max_speed)
+    v_new = _clamp(v + dt * a, rules.min_speed, rules.max_speed)
+    if not np.all(np.isfinite(v_new)):
+        raise ValueError("the step blew up: a velocity is no longer finite (check weights and dt)")
     x_new = x + dt * v_new
-    return (x_new if rules.box is None else neighbors.wrap_positions(x_new, rules.box)), v_new
+    return (x_new if rules.box is None else neighbors._wrapped(x_new, _sides(x, rules))), v_new
 
 
 def polarization(v) -> float:

@@ -109,6 +109,11 @@ def wrap_positions(x, box) -> np.ndarray:
     sides = np.broadcast_to(_validate.real_array("box", box), x.shape[-1:])
     if np.any(sides <= 0):
         raise ValueError(f"box must be > 0 on every axis (m), got {box!r}")
+    return _wrapped(x, sides)
+
+
+def _wrapped(x: np.ndarray, sides: np.ndarray) -> np.ndarray:
+    """:func:`wrap_positions` on a validated float array and positive sides."""
     w = np.mod(x, sides)
     # a tiny negative coordinate rounds to exactly `box`; its image at 0 is the same point
     return np.where(w >= sides, 0.0, w)
@@ -177,10 +182,15 @@ def pairs(x, radius: float, box=None, *, sort: bool = True) -> Pairs:
     """
     x = _positions(x)
     r = _radius(radius)
-    sides = _box(box, x.shape[1], r)
+    return _tree_pairs(x, r, _box(box, x.shape[1], r), sort)
+
+
+def _tree_pairs(x: np.ndarray, r: float, sides: np.ndarray | None, sort: bool) -> Pairs:
+    """:func:`pairs` on arguments already validated (``x`` a finite float ``(N, dim)``
+    array, ``sides`` from :func:`_box`): a caller stepping many times validates once."""
     if len(x) < 2:
         return _empty(x.shape[1])
-    w = wrap_positions(x, sides)
+    w = x if sides is None else _wrapped(x, sides)
     # the tree rounds its distances its own way: widen its radius by a few units of
     # round-off of the coordinates, then judge every candidate by the shared definition
     scale = float(np.max(np.abs(w))) + (0.0 if sides is None else float(sides.max())) + r

@@ -280,3 +280,30 @@ def test_steer_to_avoid():
         assert inside == enters and xs[0, 0] > 8.0
     three_d = B.avoid(np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]), [[0.0, 0.0, 3.0]], [1.0], 4.0, 1.0)
     assert np.allclose(three_d[0, 2], 0.0) and np.isclose(np.linalg.norm(three_d), 1 - 3.0 / 5.0)
+
+
+# --- step validates once per call, bit for bit the public pieces (issue 21) ------------------
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("box", [12.0, None])
+@pytest.mark.parametrize("method", ["tree", "all_pairs"])
+def test_step_is_bit_for_bit_the_public_pieces(seed, box, method):
+    """The fast path of step (validation once, no re-wrap inside the search) gives exactly
+    the bits of steering + clamp_speed + wrap_positions, as step was written before."""
+    rules = B.Rules(box=box)
+    x, v = B.random_flock(60, 12.0, 1.5, np.random.default_rng(seed))
+    for _ in range(25):
+        sep, ali, coh = B.steering(x, v, rules, method)
+        a = rules.separation * sep + rules.alignment * ali + rules.cohesion * coh
+        v_ref = B.clamp_speed(v + 0.05 * a, rules.min_speed, rules.max_speed)
+        x_ref = x + 0.05 * v_ref
+        x_ref = x_ref if box is None else B.neighbors.wrap_positions(x_ref, box)
+        x, v = B.step(x, v, 0.05, rules, method)
+        assert np.array_equal(x, x_ref) and np.array_equal(v, v_ref)
+
+
+def test_step_names_a_bad_method_and_stops_on_a_blow_up():
+    x, v = B.random_flock(10, 12.0, 1.5, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="tree, all_pairs"):
+        B.step(x, v, 0.1, B.Rules(), method="grid")
+    with pytest.raises(ValueError, match="blew up"), np.errstate(over="ignore", invalid="ignore"):
+        B.step(x, v, 0.1, B.Rules(max_speed=np.inf, separation=1e308, radius=20.0))
