@@ -23,11 +23,14 @@ import hashlib
 import html
 import io
 import json
+import os
 from collections.abc import Callable, Mapping, Sequence
 
 import matplotlib.pyplot as plt
+import numpy as np
 
 from ._player_assets import PLAYER_CSS, PLAYER_JS, controls_html
+from .clips.frames import write_frames
 
 #: Default size budget of a parameter player's HTML (bytes).
 MAX_BYTES = 300_000
@@ -77,16 +80,39 @@ class Player:
 def encode_png(fig, dpi: float | None = None, colors: int = 256) -> bytes:
     """PNG bytes of ``fig`` at ``dpi`` (default: the figure's), reduced to a ``colors``-entry
     palette (plots have few colours: frames shrink 2-4x and look the same)."""
-    from PIL import Image
-
-    if colors and not 2 <= colors <= 256:
-        raise ValueError(f"colors must be 0 (no palette) or 2..256, got {colors!r}")
+    _check_colors(colors)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi or fig.dpi, metadata={"Software": None},
                 pil_kwargs={"compress_level": 1 if colors else 6})  # if decoded at once: fast
     if not colors:
         return buf.getvalue()
-    img = Image.open(io.BytesIO(buf.getvalue())).convert("RGB")
+    from PIL import Image
+
+    return _palette_png(Image.open(io.BytesIO(buf.getvalue())).convert("RGB"), colors)
+
+
+def rgba_png(rgba, colors: int = 256) -> bytes:
+    """PNG bytes of a drawn canvas's pixels ``rgba`` (``height × width × 4``, ``uint8``),
+    reduced to a ``colors``-entry palette as :func:`encode_png` does (0: RGBA as is)."""
+    from PIL import Image
+
+    _check_colors(colors)
+    img = Image.fromarray(np.array(rgba, dtype=np.uint8, copy=True), "RGBA")
+    if not colors:
+        out = io.BytesIO()
+        img.save(out, format="PNG", compress_level=6)
+        return out.getvalue()
+    return _palette_png(img.convert("RGB"), colors)
+
+
+def _check_colors(colors: int) -> None:
+    if colors and not 2 <= colors <= 256:
+        raise ValueError(f"colors must be 0 (no palette) or 2..256, got {colors!r}")
+
+
+def _palette_png(img, colors: int) -> bytes:
+    from PIL import Image
+
     out = io.BytesIO()
     img.quantize(colors=colors, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE).save(
         out, format="PNG", optimize=True)
@@ -160,7 +186,8 @@ def frames_html(pngs: Sequence[bytes], labels: Sequence[str], captions: Sequence
 
 
 def _grabber(colors: int):
-    """A matplotlib movie writer that keeps each frame as palette PNG bytes."""
+    """A matplotlib movie writer that keeps each frame as palette PNG bytes: fed pixels by
+    :func:`course_lib.clips.frames.write_frames` (``grab_rgba``), or a figure (``grab_frame``)."""
     from matplotlib.animation import AbstractMovieWriter
 
     class FrameGrabber(AbstractMovieWriter):
@@ -170,6 +197,9 @@ def _grabber(colors: int):
 
         def grab_frame(self, **savefig_kwargs):
             self.frames.append(encode_png(self.fig, self.dpi, colors))
+
+        def grab_rgba(self, rgba) -> None:
+            self.frames.append(rgba_png(rgba, colors))
 
         def finish(self):
             pass
@@ -181,23 +211,20 @@ def animation_player(anim, *, mode: str = "loop", dpi: float | None = None, colo
                      close: bool = True) -> Player:
     """A :class:`Player` of every frame of a ``matplotlib.animation.Animation``.
 
-    The frame interval is the animation's. ``close`` closes the figure afterwards, so the
-    notebook does not show its last frame a second time below the player.
+    The frames are drawn as a clip's are (:func:`course_lib.clips.frames.write_frames`):
+    when the frame function returns the artists it changes, the still figure is drawn once
+    and each frame draws only those on it. The frame interval is the animation's. ``close``
+    closes the figure afterwards, so the notebook does not show its last frame a second
+    time below the player. In a test pass that skips rasterizing
+    (``COURSE_KIT_SKIP_RASTER=1``, see ``tests/skip_raster_startup.py``) frames are saved
+    with ``savefig`` as before, which that pass turns into blank PNGs.
     """
     fig = anim._fig
     grabber = _grabber(colors)
-    # ``save`` asks the canvas to redraw after each frame (``draw_idle``), then the grabber
-    # renders the frame again: one render is enough, so the redraw is skipped while saving.
-    canvas = fig.canvas
-    own = vars(canvas).get("draw_idle")
-    canvas.draw_idle = lambda *args, **kwargs: None
-    try:
-        anim.save("unused", writer=grabber, dpi=dpi or fig.dpi)
-    finally:
-        if own is None:
-            del canvas.draw_idle
-        else:
-            canvas.draw_idle = own
+    if os.environ.get("COURSE_KIT_SKIP_RASTER") == "1":
+        _save_in_full(anim, grabber, dpi or fig.dpi)
+    else:
+        write_frames(anim, grabber, "unused", dpi=dpi or fig.dpi)
     if close:
         plt.close(fig)
     n = len(grabber.frames)
@@ -205,6 +232,21 @@ def animation_player(anim, *, mode: str = "loop", dpi: float | None = None, colo
     html_text = frames_html(grabber.frames, labels, kind="animation",
                             interval=getattr(anim, "_interval", 100.0), mode=mode)
     return Player(html_text, labels, [""] * n, "animation")
+
+
+def _save_in_full(anim, grabber, dpi: float) -> None:
+    # ``save`` asks the canvas to redraw after each frame (``draw_idle``), then the grabber
+    # renders the frame again: one render is enough, so the redraw is skipped while saving.
+    canvas = anim._fig.canvas
+    own = vars(canvas).get("draw_idle")
+    canvas.draw_idle = lambda *args, **kwargs: None
+    try:
+        anim.save("unused", writer=grabber, dpi=dpi)
+    finally:
+        if own is None:
+            del canvas.draw_idle
+        else:
+            canvas.draw_idle = own
 
 
 def _default_caption(result) -> str:

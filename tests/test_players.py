@@ -1,6 +1,8 @@
 """Kernel-free players: the HTML is offline, deterministic and small; a frame shows before
 any script runs; parameter players run the widget's own functions and flip at the limit."""
 
+import base64
+import io
 import json
 import re
 
@@ -9,6 +11,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 from matplotlib.animation import FuncAnimation
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from PIL import Image
 
 from course_lib import players
 from course_lib.lessons import kernel_free
@@ -56,13 +60,89 @@ def test_animation_player_has_every_frame_closes_the_figure_and_needs_no_network
     assert repr(player) == "<animation player: 5 frames, frame 1 / 5 … frame 5 / 5>"
 
 
-def test_animation_player_renders_each_frame_once_and_restores_the_canvas(square_anim):
+@pytest.fixture
+def full_draws(monkeypatch):
+    """How often a figure is drawn in full on an Agg canvas (one entry a drawing)."""
+    drawn, draw = [], FigureCanvasAgg.draw
+    monkeypatch.setattr(FigureCanvasAgg, "draw", lambda self: (draw(self), drawn.append(1))[0])
+    return drawn
+
+
+def _frames(player) -> list[np.ndarray]:
+    """The player's frames, decoded to RGB arrays (ints)."""
+    b64 = re.findall(r'(?:base64,|")([A-Za-z0-9+/=]{100,})"', player.html)
+    return [np.asarray(Image.open(io.BytesIO(base64.b64decode(b))).convert("RGB")).astype(int)
+            for b in b64]
+
+
+def _busy_anim(returns: bool):
+    """A laid-out figure with a title, a still curve, a moving line and dots under a framed
+    legend and a moving text; the frame function returns what it moves (or nothing)."""
+    fig, ax = plt.subplots(figsize=(3, 2.4), dpi=50, constrained_layout=True)
+    x = np.linspace(0, 2 * np.pi, 60)
+    ax.plot(x, np.cos(x), "k--", label="still")
+    (line,) = ax.plot(x, np.sin(x), lw=3, label="wave")
+    dots = ax.scatter(x[::6], np.sin(x[::6]), s=40, zorder=3)
+    text = ax.text(0.5, 1.05, "", ha="center")
+    ax.legend(loc="center", framealpha=0.9)
+    ax.set(xlim=(0, 2 * np.pi), ylim=(-1.2, 1.2), title="moving")
+
+    def draw(k):
+        line.set_ydata(np.sin(x + 0.7 * k))
+        dots.set_offsets(np.c_[x[::6], np.sin(x[::6] + 0.7 * k)])
+        text.set_text(f"t = {k}")
+        return (line, dots, text) if returns else None
+
+    return FuncAnimation(fig, draw, frames=6, interval=50)
+
+
+@pytest.mark.parametrize("returns", [True, False])
+def test_animation_player_draws_only_what_moves_with_the_full_drawings_pixels(returns, full_draws,
+                                                                             monkeypatch):
+    """A blittable animation is drawn in full once, one that returns nothing once per frame
+    (not twice); either way its frames are those of a full savefig per frame (the skip-raster
+    test pass's path) up to palette rounding."""
+    anim = _busy_anim(returns)
+    fig = anim._fig
+    player = players.animation_player(anim, close=False)
+    assert len(full_draws) == (1 if returns else 6)
+    assert "draw_idle" not in vars(fig.canvas)
+    monkeypatch.setenv("COURSE_KIT_SKIP_RASTER", "1")  # the savefig path, not blanked here
+    full_draws.clear()
+    reference = players.animation_player(_busy_anim(returns), close=False)
+    plt.close("all")
+    fast, full = _frames(player), _frames(reference)
+    assert len(fast) == len(full) == 6
+    for k, (a, b) in enumerate(zip(fast, full, strict=True)):
+        assert a.shape == b.shape
+        # the same artists in the same order; a 256-colour palette rounds by a few levels,
+        # a missing artist or a wrong order differs by far more on many pixels
+        differ = np.abs(a - b).max(axis=-1) > 12
+        assert differ.sum() <= 3, f"frame {k}: {differ.sum()} pixels differ from the full drawing"
+
+
+def test_the_savefig_path_renders_each_frame_once_and_restores_the_canvas(square_anim, monkeypatch):
+    monkeypatch.setenv("COURSE_KIT_SKIP_RASTER", "1")
     fig = square_anim._fig
     draws = []
     fig.canvas.mpl_connect("draw_event", lambda event: draws.append(event))
     player = players.animation_player(square_anim, close=False)
     assert len(player.labels) == 5 and len(draws) == 5   # not twice per frame
     assert "draw_idle" not in vars(fig.canvas)           # the canvas redraws as before
+    plt.close(fig)
+
+
+def test_rgba_png_matches_encode_png_and_checks_colors():
+    fig, ax = plt.subplots(figsize=(2, 2), dpi=40)
+    ax.plot([0, 1], [0, 1], lw=3)
+    fig.canvas.draw()
+    rgba = fig.canvas.buffer_rgba()
+    for colors in (0, 64):
+        a = np.asarray(Image.open(io.BytesIO(players.rgba_png(rgba, colors))).convert("RGB"))
+        b = np.asarray(Image.open(io.BytesIO(players.encode_png(fig, 40, colors))).convert("RGB"))
+        assert a.shape == b.shape and np.abs(a.astype(int) - b).max() <= 2
+    with pytest.raises(ValueError, match="colors"):
+        players.rgba_png(rgba, 300)
     plt.close(fig)
 
 
