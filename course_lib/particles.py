@@ -217,10 +217,10 @@ def reeves_count(mean: float, variance: float, rng: np.random.Generator) -> int:
 
 
 def _plane_basis(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    n = normal / np.linalg.norm(normal)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    e1 = np.cross(n, helper) / np.linalg.norm(np.cross(n, helper))
-    return e1, np.cross(n, e1)
+    x, y, z = (normal / np.linalg.norm(normal)).tolist()  # crosses by hand: np.cross's IEEE ops
+    p, q, r = (1.0, 0.0, 0.0) if abs(x) < 0.9 else (0.0, 1.0, 0.0)
+    a, b, d = ((c := np.array([y * r - z * q, z * p - x * r, x * q - y * p])) / np.linalg.norm(c)).tolist()
+    return np.array([a, b, d]), np.array([y * d - z * b, z * a - x * d, x * b - y * a])
 
 
 def sample_shape(shape: str, k: int, rng: np.random.Generator, center=(0.0, 0.0, 0.0),
