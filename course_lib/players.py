@@ -23,7 +23,6 @@ import hashlib
 import html
 import io
 import json
-import os
 from collections.abc import Callable, Mapping, Sequence
 
 import matplotlib.pyplot as plt
@@ -215,16 +214,11 @@ def animation_player(anim, *, mode: str = "loop", dpi: float | None = None, colo
     when the frame function returns the artists it changes, the still figure is drawn once
     and each frame draws only those on it. The frame interval is the animation's. ``close``
     closes the figure afterwards, so the notebook does not show its last frame a second
-    time below the player. In a test pass that skips rasterizing
-    (``COURSE_KIT_SKIP_RASTER=1``, see ``tests/skip_raster_startup.py``) frames are saved
-    with ``savefig`` as before, which that pass turns into blank PNGs.
+    time below the player.
     """
     fig = anim._fig
     grabber = _grabber(colors)
-    if os.environ.get("COURSE_KIT_SKIP_RASTER") == "1":
-        _save_in_full(anim, grabber, dpi or fig.dpi)
-    else:
-        write_frames(anim, grabber, "unused", dpi=dpi or fig.dpi)
+    _draw_frames(anim, grabber, dpi or fig.dpi)
     if close:
         plt.close(fig)
     n = len(grabber.frames)
@@ -232,6 +226,12 @@ def animation_player(anim, *, mode: str = "loop", dpi: float | None = None, colo
     html_text = frames_html(grabber.frames, labels, kind="animation",
                             interval=getattr(anim, "_interval", 100.0), mode=mode)
     return Player(html_text, labels, [""] * n, "animation")
+
+
+def _draw_frames(anim, grabber, dpi: float) -> None:
+    # A test pass that skips rasterizing (tests/skip_raster_startup.py) swaps in
+    # _save_in_full, whose savefig per frame it turns into blank PNGs.
+    write_frames(anim, grabber, "unused", dpi=dpi)
 
 
 def _save_in_full(anim, grabber, dpi: float) -> None:

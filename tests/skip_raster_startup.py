@@ -34,3 +34,10 @@ if os.environ.get("COURSE_KIT_SKIP_RASTER") == "1":
         return None
 
     _backend_bases.FigureCanvasBase.print_figure = _print_figure
+
+    # Kernel-free players draw their frames straight from the canvas (blitting), not through
+    # print_figure: in this pass they take the savefig path, whose PNGs are blanked above.
+    import course_lib.players as _players
+
+    _players._draw_frames = _players._save_in_full
+

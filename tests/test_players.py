@@ -107,7 +107,7 @@ def test_animation_player_draws_only_what_moves_with_the_full_drawings_pixels(re
     player = players.animation_player(anim, close=False)
     assert len(full_draws) == (1 if returns else 6)
     assert "draw_idle" not in vars(fig.canvas)
-    monkeypatch.setenv("COURSE_KIT_SKIP_RASTER", "1")  # the savefig path, not blanked here
+    monkeypatch.setattr(players, "_draw_frames", players._save_in_full)  # savefig per frame
     full_draws.clear()
     reference = players.animation_player(_busy_anim(returns), close=False)
     plt.close("all")
@@ -122,7 +122,7 @@ def test_animation_player_draws_only_what_moves_with_the_full_drawings_pixels(re
 
 
 def test_the_savefig_path_renders_each_frame_once_and_restores_the_canvas(square_anim, monkeypatch):
-    monkeypatch.setenv("COURSE_KIT_SKIP_RASTER", "1")
+    monkeypatch.setattr(players, "_draw_frames", players._save_in_full)
     fig = square_anim._fig
     draws = []
     fig.canvas.mpl_connect("draw_event", lambda event: draws.append(event))
