@@ -8,8 +8,9 @@ offsets; the steering of each (:func:`steering`); a time step (:func:`step`); tw
 steering behaviours of Reynolds (1999), fleeing a predator (:func:`flee`) and steering
 to avoid obstacles (:func:`avoid`); and the order parameters (:func:`polarization`,
 :func:`nearest_distances`) with their values for boids placed at random
-(:func:`random_polarization`, :func:`random_nearest_distance`). Core module: imports
-NumPy, SciPy and :mod:`course_lib.neighbors` only.
+(:func:`random_polarization`, :func:`random_nearest_distance`), which live in
+:mod:`course_lib.flock_measures` and are re-exported here. Core module: imports NumPy,
+SciPy and :mod:`course_lib.neighbors` and :mod:`course_lib.flock_measures` only.
 
 Boid ``i`` sees boid ``j`` when ``0 < |d_ij| <= radius`` (the pair definition of
 :mod:`course_lib.neighbors`: ``d_ij = x_j − x_i``, the minimum image in a box) and the
@@ -31,11 +32,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
-from scipy.special import beta, betainc
 
 from . import neighbors
-from ._validate import finite_real, nonnegative, positive_finite, positive_int, real_array
+from ._validate import finite_real, nonnegative, positive_finite, real_array
+from .flock_measures import (  # noqa: F401  (re-exported: boids.polarization etc.)
+    _headings,
+    nearest_distances,
+    polarization,
+    random_flock,
+    random_nearest_distance,
+    random_polarization,
+)
 from .neighbors import squared_norms
 
 METHODS = ("tree", "all_pairs")
@@ -194,17 +201,6 @@ def _steering(x, v, rules: Rules, method: str):
     return sep, np.where(has, mean_v - v, 0.0), np.where(has, mean_d, 0.0)
 
 
-def _headings(v):
-    """Unit vectors along ``v`` (zero rows stay zero) and the speeds, without overflow or
-    underflow: each row is first divided by its largest component."""
-    v = np.asarray(v, dtype=float)
-    top = np.max(np.abs(v), axis=-1, keepdims=True)
-    u = v / np.where(top > 0, top, 1.0)
-    size = np.sqrt(squared_norms(u))[..., None]          # 1 to √dim, or 0
-    with np.errstate(over="ignore"):
-        return u / np.where(size > 0, size, 1.0), top * size
-
-
 def clamp_speed(v, min_speed: float, max_speed: float):
     """Velocities rescaled so that every speed lies in ``[min_speed, max_speed]`` (rows
     already inside are returned unchanged). A boid at rest that must fly
@@ -308,41 +304,3 @@ def step(x, v, dt: float, rules: Rules, method: str = "tree", extra=None):
         raise ValueError("the step blew up: a velocity is no longer finite (check weights and dt)")
     x_new = x + dt * v_new
     return (x_new if rules.box is None else neighbors._wrapped(x_new, _sides(x, rules))), v_new
-
-
-def polarization(v) -> float:
-    """Order parameter ``|(1/N) Σ v_i/|v_i||`` in [0, 1]: 1 when all head the same way
-    (a boid at rest has no heading and counts as zero)."""
-    return float(np.sqrt(squared_norms(np.mean(_headings(real_array("v", v, (None, None)))[0], axis=0))))
-
-
-def nearest_distances(x, box: float | None = None) -> np.ndarray:
-    """Distance (m) from each boid to its nearest neighbour (periodic if ``box``)."""
-    pts = neighbors.wrap_positions(real_array("x", x, (None, None)), box)
-    dist, _ = cKDTree(pts, boxsize=box).query(pts, k=2)
-    return dist[:, 1]
-
-
-def random_polarization(n: int) -> float:
-    """Expected polarization of ``n`` independent uniformly random 2D headings, to
-    ``O(1/n)``: the sum of ``n`` unit vectors is nearly Gaussian with variance ``n/2``
-    per axis, so its length is Rayleigh with mean ``√(π n)/2``: ``√π / (2 √n)``."""
-    return float(np.sqrt(np.pi) / (2.0 * np.sqrt(positive_int("n", n))))
-
-
-def random_nearest_distance(n: int, box: float) -> float:
-    """Exact mean nearest-neighbour distance (m) of ``n`` uniform random points in a
-    periodic square of side ``box`` (``n >= 2``): ``∫ (1 − π r²/A)^{n−1} dr`` over ``r <= box/2``
-    (where the disc fits; the chance of no neighbour nearer, (1 − π/4)^{n−1}, is 1e-200 at n = 300); with
-    ``u = π r²/A``, ``½ √(A/π) B(½, n) I_{π/4}(½, n)``, close to ``1/(2√ρ)`` for large ``n``."""
-    n, area = positive_int("n", n), positive_finite("box", box) ** 2
-    if n < 2:
-        raise ValueError(f"n must be at least 2 (one point has no nearest neighbour), got {n}")
-    return float(0.5 * np.sqrt(area / np.pi) * beta(0.5, n) * betainc(0.5, n, np.pi / 4))
-
-
-def random_flock(n: int, box: float, speed: float, rng: np.random.Generator):
-    """``n`` boids uniform in the square ``[0, box)²`` with random headings at ``speed``."""
-    n, box, speed = positive_int("n", n), positive_finite("box", box), nonnegative("speed", speed)
-    x, theta = rng.uniform(0.0, box, (n, 2)), rng.uniform(0.0, 2.0 * np.pi, n)
-    return x, speed * np.stack((np.cos(theta), np.sin(theta)), axis=1)
