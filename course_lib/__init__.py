@@ -53,7 +53,7 @@ from .systems import NewtonianSystem, newtonian, split_particles, split_state, s
 #: SciPy's sparse solvers.
 _LAZY = frozenset({
     "baraff_witkin", "boids", "cloth", "collisions", "events", "fields", "forces", "hair",
-    "implicit", "largestep", "neighbors", "particles", "rigid", "sph", "springs", "stability",
+    "flock_measures", "implicit", "largestep", "neighbors", "particles", "rigid", "sph", "springs", "stability",
     "statics", "steppers", "strands", "systems", "timegrid",
 })
 
