@@ -52,9 +52,9 @@ from .systems import NewtonianSystem, newtonian, split_particles, split_state, s
 #: a sandboxed grading run or a kernel that needs only the integrators does not load
 #: SciPy's sparse solvers.
 _LAZY = frozenset({
-    "baraff_witkin", "boids", "cloth", "collisions", "events", "fields", "forces", "hair",
-    "flock_measures", "implicit", "largestep", "neighbors", "particles", "rigid", "sph", "springs", "stability",
-    "statics", "steppers", "strands", "systems", "timegrid",
+    "baraff_witkin", "boids", "cloth", "collisions", "events", "fields", "flock_measures",
+    "forces", "hair", "implicit", "largestep", "neighbors", "particles", "rigid", "sph",
+    "springs", "stability", "statics", "steppers", "strands", "systems", "timegrid",
 })
 
 
