@@ -12,6 +12,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..plotting import EXACT_STYLE
+from ..widgets import BlitPlot
 
 #: Arrows show headings (unit length, ``ARROW`` m long on the plot) coloured by direction.
 ARROW = 0.7
@@ -30,14 +31,18 @@ def _boids(ax, x, v, box, title):
     ax.set_xlabel("x (m)", labelpad=1)
 
 
-class FlockPlot:
+class FlockPlot(BlitPlot):
     """The widget's figure: the final flock (arrows: velocity, colour: heading) beside its
     polarization and nearest-neighbour distance over time. Calling it with a
     :class:`~course_lib.lessons.nb10_flocking.FlockRun` updates the same artists in
     place, which keeps a widget update fast; it returns the figure. With ``freeze`` (for
-    a figure redrawn many times) the ticks and axis-label places are fixed once."""
+    a figure redrawn many times) the ticks and axis-label places are fixed once. With
+    ``blit`` (the widget) :meth:`png` redraws only the arrows, the curves, their
+    references and the title over a kept picture of the rest: the limits never change,
+    so that picture is drawn once."""
 
-    def __init__(self, n: int, box: float, t_end: float, freeze: bool = True):
+    def __init__(self, n: int, box: float, t_end: float, freeze: bool = True,
+                 blit: bool = True):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.ticker import MaxNLocator
 
@@ -69,7 +74,8 @@ class FlockPlot:
             a.xaxis.set_major_locator(MaxNLocator(3))
             a.yaxis.set_major_locator(MaxNLocator(3))
         self.title = fig.suptitle("", fontsize=10)
-        self.fig = fig
+        super().__init__(fig, blit)
+        self.dynamic = [self.arrows, self.pol, self.pol_ref, self.nn, self.nn_ref, self.title]
         if freeze:
             self._freeze_layout()
 
@@ -105,7 +111,8 @@ class FlockPlot:
 
 def draw_flock(run):
     """A new figure of ``run`` (see :class:`FlockPlot`)."""
-    return FlockPlot(len(run.x), run.rules.box, float(run.t[-1]), freeze=False)(run)
+    return FlockPlot(len(run.x), run.rules.box, float(run.t[-1]), freeze=False,
+                     blit=False)(run)
 
 
 def draw_key_states(runs: dict):
