@@ -1,6 +1,8 @@
 """A sandboxed submission dies with its grader: a worker that loses its parent (a grader or
 Dask worker killed mid-run) ends its whole process group, even when the student's code
-sleeps in a loop that swallows the time-limit alarm (no CPU used, so no rlimit stops it)."""
+sleeps in a loop that swallows the time-limit alarm (no CPU used, so no rlimit stops it).
+With the fork server the chain is longer (the server ends when its grader's socket closes;
+each monitor then kills its worker's group); both ways are tested."""
 
 from __future__ import annotations
 
@@ -19,20 +21,33 @@ from notebook_helpers import ROOT
 pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads /proc (Linux)")
 
 
-def _children(pid: int) -> list[int]:
-    out = []
+def _descendants(pid: int) -> list[int]:
+    """Every process below ``pid``: the fork server, its monitors and the workers, or the
+    workers the grader started itself."""
+    parents = {}
     for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
+        if entry.name.isdigit():
+            try:
+                parents[int(entry.name)] = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+            except OSError:
+                continue
+    found, todo = [], [pid]
+    while todo:
+        parent = todo.pop()
+        children = [p for p, pp in parents.items() if pp == parent]
+        found += children
+        todo += children
+    return found
+
+
+def _looping(pids: list[int]) -> bool:
+    for p in pids:
         try:
-            stat = (entry / "stat").read_text()
-            cmdline = (entry / "cmdline").read_bytes()
+            if Path(f"/proc/{p}/cwd/looping").exists():
+                return True
         except OSError:
             continue
-        ppid = int(stat.rsplit(")", 1)[1].split()[1])
-        if ppid == pid and b"worker.py" in cmdline:
-            out.append(int(entry.name))
-    return out
+    return False
 
 
 def _alive(pid: int) -> bool:
@@ -43,7 +58,8 @@ def _alive(pid: int) -> bool:
     return state != "Z"
 
 
-def test_a_sleeping_submission_dies_with_its_grader(tmp_path):
+@pytest.mark.parametrize("forks", [True, False], ids=["fork server", "python -I -S"])
+def test_a_sleeping_submission_dies_with_its_grader(tmp_path, forks):
     nb = nbformat.read(ROOT / "notebooks" / "02_forward_euler.ipynb", as_version=4)
     stubborn = textwrap.dedent("""\
         import time
@@ -59,29 +75,26 @@ def test_a_sleeping_submission_dies_with_its_grader(tmp_path):
     path.parent.mkdir()
     nbformat.write(nb, path)
     grader = subprocess.Popen(
-        [sys.executable, "-c", "import sys; from course_lib.instructor import grade_notebook; "
+        [sys.executable, "-c", "import sys; from course_lib.instructor import forkserver, grade_notebook; "
+                               f"forkserver.SUPPORTED = {forks}; "
                                "grade_notebook(sys.argv[1], '02_forward_euler')", str(path)],
         cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
-        workers: list[int] = []
+        below: list[int] = []
         deadline = time.monotonic() + 120
-        while not workers and time.monotonic() < deadline and grader.poll() is None:
+        while not _looping(below) and time.monotonic() < deadline and grader.poll() is None:
             time.sleep(0.2)
-            workers = _children(grader.pid)
-        assert workers, "the grader never started a sandboxed worker"
-        marker = Path(f"/proc/{workers[0]}/cwd/looping")
-        while not marker.exists() and time.monotonic() < deadline:
-            time.sleep(0.2)
-        assert marker.exists(), "the student's loop never started"
+            below = _descendants(grader.pid)
+        assert _looping(below), "the student's loop never started in a process of the grader's"
         os.kill(grader.pid, signal.SIGKILL)
         grader.wait()
         deadline = time.monotonic() + 10
-        while any(_alive(w) for w in workers) and time.monotonic() < deadline:
+        while any(_alive(p) for p in below) and time.monotonic() < deadline:
             time.sleep(0.1)
-        left = [w for w in workers if _alive(w)]
-        assert not left, f"worker {left} outlived its grader"
+        left = [p for p in below if _alive(p)]
+        assert not left, f"processes {left} (worker, fork server or monitor) outlived their grader"
     finally:
         if grader.poll() is None:
             grader.kill()
-        for w in _children(grader.pid):
-            os.kill(w, signal.SIGKILL)
+        for p in _descendants(grader.pid):
+            os.kill(p, signal.SIGKILL)

@@ -1,12 +1,12 @@
 """Running one submission in the worker: isolation, limits, deadlines, restarts.
 
-:class:`Runtime` is prepared once per grading run, in a private temporary folder outside
-the kit: a copy of the installed ``course_lib`` (the only one the worker can import) and
-a warmed matplotlib cache. :func:`run_submission` then gives each submission
+:class:`~.runtime.Runtime` (:mod:`.runtime`) is prepared once per grading run, in a
+private temporary folder outside the kit. :func:`run_submission` then gives each submission
 
 - a fresh working folder holding only a copy of the notebook (``HOME`` and ``TMPDIR``
-  point there), a scrubbed environment and ``python -I -S`` (no user site, no ``.pth``
-  files, no script folder on the path);
+  point there), a scrubbed environment and a fresh ``python -I -S`` process (no user site,
+  no ``.pth`` files, no script folder on the path), forked by the runtime's fork server
+  (:mod:`.forkserver`) after the libraries were imported once;
 - limits: address space, CPU seconds, file size, output kept per cell, a time limit per
   cell and per exercise (an alarm in the worker, then a kill), and a deadline for the
   whole notebook; on Linux with Landlock, reads only below the Python installation, the
@@ -22,7 +22,7 @@ violation, which the grader treats as tampering. Imports: the standard library.
 
 from __future__ import annotations
 
-import compileall
+import contextlib
 import hashlib
 import hmac
 import json
@@ -31,18 +31,12 @@ import secrets
 import selectors
 import shutil
 import signal
-import site
-import subprocess
-import sys
-import sysconfig
 import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import course_lib
-
-from . import landlock
+from .runtime import Runtime, remove_tree
 
 #: A cell's or an exercise's budget is CPU seconds (the worker's profiling timer); the wall
 #: clock may run this many times longer before the grader kills the process, which stops
@@ -67,59 +61,6 @@ class Limits:
     value_bytes: int = 8 << 20
     attempts: int = 4
     grace: float = 3.0
-
-
-class Runtime:
-    """The private, per-run folder every worker imports course_lib from."""
-
-    def __init__(self, root: Path | None = None):
-        self.root = Path(root or tempfile.mkdtemp(prefix="course-grade-"))
-        self.lib = self.root / "lib"
-        self.work = self.root / "work"
-        self.mpl = self.root / "matplotlib"
-        for d in (self.lib, self.work, self.mpl):
-            d.mkdir(parents=True, exist_ok=True)
-        os.chmod(self.root, 0o700)
-        source = Path(course_lib.__file__).parent
-        shutil.copytree(source, self.lib / "course_lib", dirs_exist_ok=True,
-                        ignore=shutil.ignore_patterns(".ipynb_checkpoints", "*.ipynb"))
-        compileall.compile_dir(self.lib, quiet=1, workers=1)  # workers cannot write bytecode
-        self.worker = self.lib / "course_lib" / "instructor" / "worker.py"
-        paths = sysconfig.get_paths()
-        self.site = [p for p in dict.fromkeys([paths["purelib"], paths["platlib"], *site.getsitepackages()])
-                     if os.path.isdir(p)]
-        self.sys_path = [str(self.lib), *self.site]
-        self.read = [str(self.lib), str(self.mpl), paths["stdlib"], paths["platstdlib"], *self.site,
-                     sys.base_prefix, "/usr/lib", "/usr/lib64", "/usr/share", "/lib", "/lib64",
-                     "/etc", "/dev/null", "/dev/urandom", "/dev/zero"]
-        self.landlock = landlock.abi_version()
-        self._warm()
-
-    def _warm(self) -> None:
-        code = ("import sys; sys.path.extend(sys.argv[1:]); import matplotlib; "
-                "matplotlib.use('Agg'); import matplotlib.pyplot")
-        subprocess.run([sys.executable, "-I", "-S", "-c", code, *self.sys_path],
-                       env=self.env(self.root), capture_output=True, timeout=300, check=False)
-
-    def env(self, home: Path) -> dict[str, str]:
-        return {"PATH": "/usr/bin:/bin", "HOME": str(home), "TMPDIR": str(home),
-                "LANG": "C.UTF-8", "MPLBACKEND": "Agg", "MPLCONFIGDIR": str(self.mpl),
-                "PYTHONHASHSEED": "0", "PYTHONIOENCODING": "utf-8", "PYTHONDONTWRITEBYTECODE": "1",
-                "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-
-    def cleanup(self) -> None:
-        _remove(self.root)
-
-
-def _remove(path: Path) -> None:
-    def retry(func, p, _exc):
-        try:
-            os.chmod(os.path.dirname(p), 0o700)
-            os.chmod(p, 0o700)
-            func(p)
-        except OSError:
-            pass
-    shutil.rmtree(path, onexc=retry) if sys.version_info >= (3, 12) else shutil.rmtree(path, onerror=retry)
 
 
 @dataclass
@@ -220,19 +161,19 @@ def _attempt(runtime, notebook_file, cells, check_module, exercises, limits, ski
     read_fd, write_fd = os.pipe()
     log = open(workdir.parent / f"{workdir.name}.log", "wb")  # closed below
     try:
-        proc = subprocess.Popen([sys.executable, "-I", "-S", str(runtime.worker), str(write_fd)],
-                                stdin=subprocess.PIPE, stdout=log, stderr=log, cwd=workdir,
-                                env=runtime.env(workdir), pass_fds=(write_fd,), start_new_session=True)
+        proc, stdin = runtime.start(workdir, check_module, write_fd, log)
     finally:
         os.close(write_fd)
     state = _Attempt(key)
     reason = None
     try:
         try:
-            proc.stdin.write(json.dumps(job).encode())
-            proc.stdin.close()
+            stdin.write(json.dumps(job).encode())
         except BrokenPipeError:
             pass
+        finally:
+            with contextlib.suppress(BrokenPipeError):
+                stdin.close()
         reason = _watch(proc, read_fd, state, run, limits, time.monotonic() + left)
     finally:
         try:
@@ -243,7 +184,7 @@ def _attempt(runtime, notebook_file, cells, check_module, exercises, limits, ski
         os.close(read_fd)
         log.close()
         tail = (workdir.parent / f"{workdir.name}.log").read_bytes()[-1500:].decode("utf-8", "replace")
-        _remove(workdir)
+        remove_tree(workdir)
         (workdir.parent / f"{workdir.name}.log").unlink(missing_ok=True)
     if state.done:
         return True
