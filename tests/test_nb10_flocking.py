@@ -4,7 +4,7 @@ import time
 
 import numpy as np
 import pytest
-from notebook_helpers import printed_holds
+from notebook_helpers import drive_kept_figure, printed_holds
 
 import course_lib as cl
 from course_lib import boids as B
@@ -341,6 +341,20 @@ def test_flock_explorer_view():
     elapsed = time.process_time() - t0
     assert view.result.rules.alignment == 3.0
     assert elapsed < 1.0                       # 100 ms target in benchmarks/bench_boids.py
+
+
+def test_flock_widget_redraws_only_the_flock_and_curves_and_its_picture_is_right():
+    """Every slider move keeps the background (the limits never change) and gives the
+    picture a full redraw gives; the widget's title names no weight, a still picture's
+    names all three."""
+    from course_lib.lessons.nb10_drawings import draw_flock
+
+    view = nb10.flock_explorer()
+    moves = [("alignment", 3.0), ("separation", 0.5), ("cohesion", 2.5), ("alignment", 0.0)]
+    assert not any(redrawn for *_, redrawn in drive_kept_figure(view, moves))
+    assert "weights set above" in view.draw.title.get_text()
+    still = draw_flock(view.result)
+    assert "alignment 0 1/s" in still.texts[0].get_text() and "cohesion 2.5" in still.texts[0].get_text()
 
 
 def test_flock_plot_keeps_its_limits_ticks_and_label_places():
