@@ -44,6 +44,27 @@ def detached_figure(figsize: tuple[float, float]):
     return fig
 
 
+def freeze_layout(fig, passes: int = 3) -> None:
+    """Lay ``fig`` out with its layout engine (e.g. constrained layout) and keep that
+    layout: an animation's frames then keep still axes and skip the layout pass.
+
+    One pass is not always enough: with an equal-aspect axes, constrained layout's first
+    pass left notebook 01's whirlpool title above the top of the figure, and the second
+    moved the axes down to make room. So it runs up to ``passes`` times, until no axes
+    moves; a figure without a layout engine is left as it is."""
+    engine = fig.get_layout_engine()
+    if engine is None or type(engine).__name__ == "PlaceHolderLayoutEngine":
+        return
+    before = None
+    for _ in range(passes):
+        fig.draw_without_rendering()
+        now = [(ax.get_position(original=True).bounds, ax.get_position().bounds) for ax in fig.axes]
+        if now == before:
+            break
+        before = now
+    fig.set_layout_engine("none")
+
+
 def use_course_style() -> None:
     """Set the course's matplotlib defaults: modest size and resolution, light grid."""
     mpl.rcParams.update({

@@ -28,6 +28,7 @@ from pathlib import Path
 import matplotlib
 from matplotlib import animation
 
+from ..plotting import freeze_layout
 from .frames import write_frames
 
 __all__ = ["FORMATS", "clip_info", "ffmpeg_exe", "frame_count", "save_clip", "write_frames"]
@@ -134,12 +135,10 @@ def save_clip(anim: animation.Animation, path, *, fps: float | None = None, dpi:
 
     fig = anim._fig
     engine = fig.get_layout_engine()
-    if engine is not None and type(engine).__name__ != "PlaceHolderLayoutEngine":
-        # Lay the figure out once, at the first frame, instead of at every frame drawn in
-        # full; the frames then also keep still axes. (Not canvas.draw(): the bare canvas of
-        # a figure closed by pyplot draws nothing, and so did not lay it out.)
-        fig.draw_without_rendering()
-        fig.set_layout_engine("none")
+    # Lay the figure out before the first frame instead of at every frame drawn in full;
+    # the frames then also keep still axes. (Not canvas.draw(): the bare canvas of a
+    # figure closed by pyplot draws nothing, and so did not lay it out.)
+    freeze_layout(fig)
     total = frame_count(anim)
     if frames is not None:
         total = frames if total is None else min(total, frames)
