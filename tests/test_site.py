@@ -1,6 +1,6 @@
 """`make site`: reader pages hide answers, pages load nothing from the network, the index
 links the README's table, kernel-free explorers are added beside widgets, and a small site
-builds from the vendored npm assets. (The browser checks live in tests/browser.)"""
+builds from the vendored npm assets, executed or not. (The browser checks live in tests/browser.)"""
 
 import shutil
 
@@ -117,3 +117,23 @@ def test_cli_names_the_valid_notebooks(tmp_path, capsys):
     assert site.main(["--only", "99_nope", "--no-execute", "--out", str(tmp_path / "s")]) == 1
     err = capsys.readouterr().err
     assert "99_nope" in err and "02_forward_euler" in err
+
+
+def _write_notebook(path, *cells) -> None:
+    nbformat.write(nbformat.v4.new_notebook(cells=list(cells), metadata={"kernelspec": {
+        "name": "python3", "display_name": "Python 3", "language": "python"}}), path)
+
+
+def test_build_executes_the_notebooks_and_names_one_that_raises(tmp_path):
+    """The executed path of ``make site`` (the browser tests build from stored outputs)."""
+    source = tmp_path / "source"
+    source.mkdir()
+    _write_notebook(source / "00_tiny.ipynb", nbformat.v4.new_markdown_cell("# Tiny"),
+                    nbformat.v4.new_code_cell("print('executed', 6 * 7)"))
+    pages = site.build(tmp_path / "site", source, run=True, log=lambda *a: None)
+    assert [p.name for p in pages] == ["index.html", "00_tiny.html"]
+    assert "executed 42" in pages[1].read_text()  # the output of the run, none was stored
+    _write_notebook(source / "01_broken.ipynb",
+                    nbformat.v4.new_code_cell("raise ValueError('no such field')"))
+    with pytest.raises(RuntimeError, match="01_broken: ValueError no such field"):
+        site.build(tmp_path / "site", source, only=["01_broken"], run=True, log=lambda *a: None)

@@ -296,14 +296,37 @@ def lab(browser, tmp_path_factory):
         yield Lab(proc.ready_url.split("/api/")[0], root, log)
 
 
+#: The one page of the test site whose notebook is executed: a saved ipywidgets slider.
+SAVED_WIDGET = "00_saved_widget"
+
+
 @pytest.fixture(scope="session")
 def site(browser, tmp_path_factory):
-    """The site of notebooks 01 and 03, built as ``make site`` builds it (executed afresh),
-    once per run: the site and accessibility tests share it, and their modules are in the
-    ``site`` xdist group, so one worker builds it while the other drives JupyterLab."""
+    """The site of notebooks 01 and 03 built from their stored outputs (``make site
+    --no-execute``), once per run: the site and accessibility tests share it, and their
+    modules are in the ``site`` xdist group, so one worker builds it while the other drives
+    JupyterLab. Not executed afresh (that took 41 to 91 s): the notebook stage already
+    checks with strict nbval that the stored outputs are what a fresh run gives, and
+    ``tests/test_site.py`` builds a tiny notebook with ``run=True``. Stored notebooks keep no
+    widget state, so their live widgets are left out; the page ``SAVED_WIDGET``, a one-slider
+    notebook executed here (a kernel start, ~2 s), carries a saved widget state instead."""
+    import nbformat
+
     from course_lib.instructor import site as builder
 
-    out = tmp_path_factory.mktemp("site") / "site"
-    builder.build(out, ROOT / "solutions", only=SITE_PAGES, run=True, jobs=2,
-                  log=lambda *a: None)
+    root = tmp_path_factory.mktemp("site")
+    source = root / "source"
+    source.mkdir()
+    for stem in SITE_PAGES:
+        shutil.copy(ROOT / "solutions" / f"{stem}.ipynb", source)
+    widget = source / f"{SAVED_WIDGET}.ipynb"
+    nbformat.write(nbformat.v4.new_notebook(
+        cells=[nbformat.v4.new_markdown_cell("# A saved widget"),
+               nbformat.v4.new_code_cell("import ipywidgets\n"
+                                         "ipywidgets.FloatSlider(value=0.5, description='k')")],
+        metadata={"kernelspec": {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}}), widget)
+    nbformat.write(builder.execute(widget), widget)
+    out = root / "site"
+    builder.build(out, source, run=False, log=lambda *a: None)
     return out

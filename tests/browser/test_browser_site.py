@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import pytest
 
-from conftest import SITE_PAGES
+from conftest import SAVED_WIDGET, SITE_PAGES
 
 pytestmark = pytest.mark.xdist_group("site")  # one worker builds it
 
-PAGES = SITE_PAGES  # the session fixture ``site`` (conftest) builds them, executed afresh
+PAGES = SITE_PAGES  # the session fixture ``site`` (conftest) builds them from stored outputs
 
 
 def open_page(page, site, name: str) -> None:
@@ -32,7 +32,6 @@ def test_page_renders_math_figures_widgets_and_the_explorer_offline(page, site):
     assert page.locator(".MathJax_Error, mjx-merror").count() == 0
     sizes = page.evaluate("() => Array.from(document.images).map(i => i.naturalWidth)")
     assert len(sizes) >= 5 and min(sizes) > 0, f"a figure did not load: {sizes}"
-    page.locator(".widget-slider").first.wait_for()  # the saved state of the live widget
     player = page.locator(".clp[data-kind=parameter]")
     assert player.count() == 1 and player.get_attribute("data-ready") == "1"
     slider, caption = player.locator(".clp-slider"), player.locator(".clp-caption")
@@ -45,6 +44,16 @@ def test_page_renders_math_figures_widgets_and_the_explorer_offline(page, site):
     assert player.locator(".clp-label").inner_text() == "dt = 2.1 s"
     assert caption.inner_text().startswith("unstable")
     assert player.locator("img").get_attribute("src") != before
+    assert page.blocked == [] and page.errors == []
+
+
+def test_saved_widget_state_renders_offline(page, site):
+    """A widget's saved state (stored by an executed notebook) is drawn by the vendored
+    widget manager: the notebooks' live widgets get it when ``make site`` executes them."""
+    open_page(page, site, f"{SAVED_WIDGET}.html")
+    slider = page.locator(".widget-slider").first
+    slider.wait_for()
+    assert slider.locator(".widget-readout").inner_text() == "0.50"
     assert page.blocked == [] and page.errors == []
 
 
