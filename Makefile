@@ -84,26 +84,30 @@ TEST_STAGES := lint test-unit test-nbval test-rounding test-browser
 
 # Chromium (for the browser stage) and nbgrader's own venv (for the export's tests) are
 # made in the background while pip sets up .venv; the tests wait for them on lock files.
-# The browser stage mostly waits (servers, pages, kernels): it runs alongside the notebook
-# stages (ALONGSIDE, from ALONGSIDE_FROM on), its output kept in build/alongside.log and
-# printed after them; the summary gives each stage's own times and the elapsed time.
+# Two stages run alongside others (ALONGSIDE: "stage:from" pairs; the stage starts in the
+# background when the loop reaches "from"): the browser stage, which mostly waits (servers,
+# pages, kernels), beside the unit tests; the second rounding beside the strict notebook
+# stage, whose two workers each wait for their kernel and leave a third of the machine
+# idle. Their output is kept in build/alongside-STAGE.log and printed after the loop; the
+# summary gives each stage's own times and the elapsed time (less than their sum).
 # `make test ALONGSIDE=` runs every stage in turn.
-ALONGSIDE ?= test-browser
-ALONGSIDE_FROM ?= test-nbval
+ALONGSIDE ?= test-browser:test-unit test-rounding:test-nbval
+BESIDE := $(foreach pair,$(ALONGSIDE),$(firstword $(subst :, ,$(pair))))
 test:
 	@$(STAGE) reset
 	@mkdir -p build && ($(PYTHON) tools/chromium.py > build/chromium-install.log 2>&1 &)
 	@($(PYTHON) course_lib/instructor/nbgrader_venv.py .venv-nbgrader > build/nbgrader-venv.log 2>&1 &)
 	@$(STAGE) run setup -- $(MAKE) --no-print-directory setup
-	@trap 'kill 0' INT TERM; status=0; rm -f build/alongside.rc; \
-	for stage in $(filter-out $(ALONGSIDE),$(TEST_STAGES)); do \
-		if [ -n "$(ALONGSIDE)" ] && [ "$$stage" = "$(ALONGSIDE_FROM)" ]; then \
-			{ $(MAKE) --no-print-directory $(ALONGSIDE) > build/alongside.log 2>&1; \
-			  echo $$? > build/alongside.rc; } & fi; \
+	@trap 'kill 0' INT TERM; status=0; rm -f build/alongside-*; \
+	for stage in $(filter-out $(BESIDE),$(TEST_STAGES)); do \
+		for pair in $(ALONGSIDE); do \
+			if [ "$${pair#*:}" = "$$stage" ]; then other=$${pair%%:*}; \
+				{ $(MAKE) --no-print-directory $$other > build/alongside-$$other.log 2>&1; \
+				  echo $$? > build/alongside-$$other.rc; } & fi; done; \
 		$(MAKE) --no-print-directory $$stage || status=1; done; \
-	if [ -n "$(ALONGSIDE)" ]; then wait; \
-		echo "== $(ALONGSIDE), run alongside the stages from $(ALONGSIDE_FROM) on:"; \
-		cat build/alongside.log; [ "$$(cat build/alongside.rc 2>/dev/null)" = 0 ] || status=1; fi; \
+	wait; for other in $(BESIDE); do \
+		echo "== $$other, run alongside the other stages:"; cat build/alongside-$$other.log; \
+		[ "$$(cat build/alongside-$$other.rc 2>/dev/null)" = 0 ] || status=1; done; \
 	$(STAGE) summary; exit $$status
 
 test-unit: $(STAMP)
