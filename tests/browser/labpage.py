@@ -51,9 +51,11 @@ def open_notebook(page, lab, path: str, *, kernel: bool = True) -> None:
     ``lab.shutdown_kernels()`` stops it). In a page where JupyterLab runs already, the
     notebook is opened with JupyterLab's docmanager:open command."""
     if page.url.startswith(lab.base) and page.evaluate("() => !!window.jupyterapp"):
-        page.evaluate("""([path, start]) => window.jupyterapp.commands.execute('docmanager:open',
-            {path, factory: 'Notebook', ...(start ? {} : {kernelPreference: {shouldStart: false}})})""",
-                      [path, kernel])
+        # the command resolves to the notebook panel: returned, Playwright would serialize
+        # its whole object graph (outputs of a megabyte included), 3 to 6 s per notebook
+        page.evaluate("""async ([path, start]) => {
+            await window.jupyterapp.commands.execute('docmanager:open', {path, factory: 'Notebook',
+                ...(start ? {} : {kernelPreference: {shouldStart: false}})}); }""", [path, kernel])
         wait = READY if kernel else MODEL
     else:
         page.goto(lab.url(path))

@@ -153,8 +153,22 @@ def test_animation_shows_a_frame_and_plays_on_the_first_click(page, lab):
 def test_first_launch_is_quiet(page, lab):
     """No news prompt in the page; no encryption warning, skipped-server list or
     deprecation warning in the terminal (the lab log, kernels included)."""
+    answered: list[str] = []
+    page.on("response", lambda r: answered.append(r.url))
     labpage.open_notebook(page, lab, "notebooks/02_forward_euler.ipynb")
-    time.sleep(3)
+    # JupyterLab asks about news once it is restored and has loaded the announcements'
+    # config section and the notification settings; then a probe notification of ours is
+    # shown after any such prompt (toasts are made in the order they are emitted)
+    needed = ("/api/config/jupyterlabapputilsextensionannouncements", "/lab/api/settings")
+    deadline = time.monotonic() + 30
+    while (missing := [n for n in needed if not any(n in u for u in answered)]) \
+            and time.monotonic() < deadline:
+        page.wait_for_timeout(100)
+    assert not missing, f"JupyterLab never loaded {missing}"
+    page.evaluate("""async () => { await window.jupyterapp.restored;
+        await window.jupyterapp.commands.execute('apputils:notify',
+            {message: 'browser-test probe', type: 'info', options: {autoClose: false}}); }""")
+    page.locator(".Toastify__toast", has_text="browser-test probe").wait_for()
     toasts = page.locator(".jp-Notification-Toast, .Toastify__toast").all_inner_texts()
     assert not any("news" in t.lower() for t in toasts), toasts
     lab.shutdown_kernels()
