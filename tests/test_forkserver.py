@@ -6,6 +6,7 @@ tests run through the server; tests/test_sandbox_orphans.py runs both ways.)"""
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 from types import SimpleNamespace
@@ -95,3 +96,18 @@ def test_the_server_ends_with_its_runtime(tmp_path):
     runtime.cleanup()
     assert server.poll() is not None, "the fork server outlived its runtime"
     assert not (tmp_path / "r").exists()
+
+
+def test_a_runtime_never_cleaned_up_still_ends_its_server_at_exit(tmp_path):
+    """A Dask worker's runtime is never cleaned up: at exit the server is still ended and
+    waited for (its CPU time then counts in the worker's, for the grading benchmark)."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from course_lib.instructor.runtime import Runtime; "
+            "r = Runtime(); r.forks._wait_ready(60); print(r.forks.proc.pid)")
+    env = {**os.environ, "TMPDIR": str(tmp_path)}          # where its folder is left
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                         cwd=tmp_path, env=env, check=True)
+    server = int(out.stdout.split()[-1])
+    assert not Path(f"/proc/{server}").exists(), "the fork server outlived its grader's exit"

@@ -97,7 +97,7 @@ def test_stages_are_timed_and_pytest_exit_5_passes(stage):
 
 
 def test_stages_run_alongside_each_other_show_less_elapsed_than_their_sum(stage):
-    """make test runs the browser stage alongside the notebook stages: the summary's
+    """make test runs stages alongside others (the browser beside the unit tests): the summary's
     elapsed line is the time since reset, not the sum of the stages' walls."""
     import threading
     import time

@@ -10,6 +10,7 @@ submissions in it. Imports: the standard library.
 
 from __future__ import annotations
 
+import atexit
 import compileall
 import os
 import shutil
@@ -55,6 +56,10 @@ class Runtime:
         if forkserver.SUPPORTED:
             self.forks = forkserver.ForkServer(self.lib / "course_lib" / "instructor" / "forkserver.py",
                                                self.sys_path, self.env(self.root), self.root / "forks.log")
+            # A Dask worker's runtime is never cleaned up (Dask deletes its folder): the
+            # server is still ended and waited for at exit, so that its CPU time (and its
+            # workers') counts in this process's children, as a worker's did before.
+            atexit.register(self.close_forks)
         else:
             self._warm()
 
@@ -76,8 +81,7 @@ class Runtime:
             except OSError as exc:                   # the server is gone: start them as before
                 os.close(write)
                 log.write(f"(fork server: {exc}; workers start with python -I -S)\n".encode())
-                self.forks.close()
-                self.forks = None
+                self.close_forks()
             finally:
                 os.close(read)
         proc = subprocess.Popen([sys.executable, "-I", "-S", str(self.worker), str(channel_fd)],
@@ -91,10 +95,14 @@ class Runtime:
                 "PYTHONHASHSEED": "0", "PYTHONIOENCODING": "utf-8", "PYTHONDONTWRITEBYTECODE": "1",
                 "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
-    def cleanup(self) -> None:
+    def close_forks(self) -> None:
+        """End the fork server (workers then start with ``python -I -S``)."""
         if self.forks is not None:
             self.forks.close()
             self.forks = None
+
+    def cleanup(self) -> None:
+        self.close_forks()
         remove_tree(self.root)
 
 
