@@ -71,10 +71,6 @@ STAGE  := $(PYTHON) tools/stage.py
 # (the files with the most tests first).
 JOBS   ?= 2
 XDIST  := -n $(JOBS) --dist loadfile --no-loadscope-reorder
-# The unit stage, one worker more: many of its tests wait rather than compute (grading's
-# sandboxes and Dask clusters, servers, kernels), and two workers left a third of the
-# machine idle (552 s of CPU in 416 s on two cores, with the browser stage alongside).
-UNIT_JOBS ?= $(shell echo $$(($(JOBS) + 1)))
 # Hypothesis: derandomized in make test (reproducible anywhere), random in make fuzz.
 CI_HYPOTHESIS := HYPOTHESIS_PROFILE=ci
 ROUNDOFF_TESTS = $(shell grep -l "mark.roundoff" tests/test_*.py)
@@ -115,8 +111,7 @@ test:
 	$(STAGE) summary; exit $$status
 
 test-unit: $(STAMP)
-	@$(STAGE) run unit -- env $(CI_HYPOTHESIS) $(PYTEST) $(subst -n $(JOBS),-n $(UNIT_JOBS),$(XDIST)) \
-		-p no:cacheprovider \
+	@$(STAGE) run unit -- env $(CI_HYPOTHESIS) $(PYTEST) $(XDIST) -p no:cacheprovider \
 		tests --ignore=tests/browser --doctest-modules course_lib
 
 # Solutions, strict, then re-run in RERUN_ORDERS (the student versions run in test-rounding).
