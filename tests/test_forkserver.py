@@ -105,7 +105,7 @@ def test_a_runtime_never_cleaned_up_still_ends_its_server_at_exit(tmp_path):
     import sys
 
     code = ("import sys; from course_lib.instructor.runtime import Runtime; "
-            "r = Runtime(); r.forks._wait_ready(60); print(r.forks.proc.pid)")
+            "r = Runtime(); r.ready(60); print(r.forks.proc.pid)")
     env = {**os.environ, "TMPDIR": str(tmp_path)}          # where its folder is left
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
                          cwd=tmp_path, env=env, check=True)

@@ -70,6 +70,7 @@ def prepare_worker() -> Runtime:
             except (ImportError, ValueError):  # called outside a Dask worker
                 base = Path(tempfile.gettempdir())
             _RUNTIME = Runtime(Path(tempfile.mkdtemp(prefix="course-grade-", dir=base)))
+            _RUNTIME.ready()               # its fork server's imports, before any submission
         return _RUNTIME
 
 

@@ -74,21 +74,23 @@ class ForkServer:
                 stdin=subprocess.DEVNULL, stdout=out, stderr=out, env=env,
                 pass_fds=(theirs.fileno(),), start_new_session=True)
         theirs.close()
-        self.sock, self.log, self._lock, self._ready = ours, log, threading.Lock(), False
+        self.sock, self.log, self._lock, self._ready = ours, log, threading.RLock(), False
 
-    def _wait_ready(self, timeout: float) -> None:
-        if self._ready:
-            return
-        self.sock.settimeout(timeout)
-        try:
-            ready = self.sock.recv(6)
-        except TimeoutError:
-            ready = b""
-        finally:
-            self.sock.settimeout(None)
-        if ready != b"ready\n":
-            raise OSError("the fork server did not start: " + _tail(self.log))
-        self._ready = True
+    def wait_ready(self, timeout: float) -> None:
+        """Wait for the server's "ready" (its imports done); OSError if it never comes."""
+        with self._lock:
+            if self._ready:
+                return
+            self.sock.settimeout(timeout)
+            try:
+                ready = self.sock.recv(6)
+            except TimeoutError:
+                ready = b""
+            finally:
+                self.sock.settimeout(None)
+            if ready != b"ready\n":
+                raise OSError("the fork server did not start: " + _tail(self.log))
+            self._ready = True
 
     def spawn(self, cwd: str, env: dict, module: str, stdin_fd: int, channel_fd: int,
               log_fd: int, timeout: float = 120.0) -> Worker:
@@ -97,7 +99,7 @@ class ForkServer:
         status_r, status_w = os.pipe()
         try:
             with self._lock:
-                self._wait_ready(timeout)
+                self.wait_ready(timeout)
                 request = json.dumps({"cwd": cwd, "env": env, "module": module}).encode() + b"\n"
                 socket.send_fds(self.sock, [request], [stdin_fd, channel_fd, log_fd, status_w])
         except BaseException:

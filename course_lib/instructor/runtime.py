@@ -95,6 +95,15 @@ class Runtime:
                 "PYTHONHASHSEED": "0", "PYTHONIOENCODING": "utf-8", "PYTHONDONTWRITEBYTECODE": "1",
                 "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
+    def ready(self, timeout: float = 120.0) -> None:
+        """Wait until the fork server has imported the libraries (it starts in the
+        background; the first worker would wait for it otherwise)."""
+        if self.forks is not None:
+            try:
+                self.forks.wait_ready(timeout)
+            except OSError:
+                self.close_forks()              # workers then start with python -I -S
+
     def close_forks(self) -> None:
         """End the fork server (workers then start with ``python -I -S``)."""
         if self.forks is not None:
