@@ -16,7 +16,6 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from .. import boids
 from ..boids import Rules
@@ -55,7 +54,7 @@ def run_flock(separation: float = 0.3, alignment: float = 2.0, cohesion: float =
     rules = Rules(separation=separation, alignment=alignment, cohesion=cohesion, box=box)
     rng = np.random.default_rng(seed)
     x, v = boids.random_flock(n, box, 1.0, rng)
-    t_nn, nn = [0.0], [boids.nearest_distances(x, box).mean()]   # wraps a start at box
+    t_nn, nn = [0.0], [boids.nearest_distances(x, box).mean()]
     vs, snapshot = [v], None
     for k in range(steps):
         x, v = boids.step(x, v, dt, rules, method)
@@ -64,7 +63,7 @@ def run_flock(separation: float = 0.3, alignment: float = 2.0, cohesion: float =
             snapshot = (x, v)
         if (k + 1) % nn_every == 0:
             t_nn.append((k + 1) * dt)
-            nn.append(_mean_nearest(x, box))
+            nn.append(boids.nearest_distances(x, box).mean())
     # the headings of all steps at once (row by row the same bits as step by step)
     vs = np.stack(vs)
     u = vs / np.linalg.norm(vs, axis=2, keepdims=True)         # speeds >= min_speed > 0
@@ -73,14 +72,6 @@ def run_flock(separation: float = 0.3, alignment: float = 2.0, cohesion: float =
     return FlockRun(dt * np.arange(1, steps + 1), pol, np.array(t_nn), np.array(nn), x, v, rules,
                     float(turn[-1]), boids.random_polarization(n),
                     boids.random_nearest_distance(n, box), turn, snapshot)
-
-
-def _mean_nearest(x: np.ndarray, box: float) -> float:
-    """Mean of :func:`course_lib.boids.nearest_distances` for positions already in
-    ``[0, box)`` (as after a step): the same bits, without validating and
-    wrapping again (a sixth of the time of a widget update went to the measures)."""
-    dist, _ = cKDTree(x, boxsize=box).query(x, k=2)
-    return dist[:, 1].mean()
 
 
 def neighbour_timings(sizes, density: float = 0.75, repeats: int = 3, seed: int = 2026,
