@@ -199,12 +199,42 @@ def _dependencies(dask_scheduler) -> dict[str, list[str]]:
     return {str(key): [str(d.key) for d in ts.dependencies] for key, ts in dask_scheduler.tasks.items()}
 
 
+def _busy(client) -> list[str]:
+    """The workers with a grading task in hand, once the scheduler has placed every task the
+    client is waiting for (a task submitted a moment ago may not be placed yet)."""
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        if busy := [w for w, keys in client.processing().items() if keys]:
+            return busy
+        if not any(f.status == "pending" for f in client.futures.values()):
+            return []
+        time.sleep(0.05)
+    return []
+
+
+def _holding(client):
+    """``(state, worker)``: the client's state of a finished grading result no one has taken
+    yet (the client releases each result it takes) and the worker that holds it, after
+    waiting up to a minute for one."""
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        held = [(client.futures[key], ws[0]) for key, ws in client.who_has().items()
+                if str(key).startswith("grade-") and ws and key in client.futures]
+        if held and held[0][0].status == "finished":
+            time.sleep(0.2)  # as_completed has queued it as finished by now: the race to test
+            return held[0]
+        time.sleep(0.05)
+    return None
+
+
+@pytest.mark.parametrize("victim", ["busy", "holding"])
 def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, local, dask_cluster, tmp_path,
-                                                                   monkeypatch):
-    """The client is held after each result it writes until a worker with work in hand has
-    been killed (no task in flight needs data held only by workers), so the kill always
-    lands in the middle of the run, on a worker that holds
-    tasks whose results the client has not taken yet: those must be computed again."""
+                                                                   monkeypatch, victim):
+    """The client is held after the first result it writes until a worker has been killed
+    (no task in flight needs data held only by workers), so the kill always lands in the
+    middle of the run: on a worker with a task in hand ("busy"), or on one that holds a
+    finished result which the client has seen complete but not taken yet ("holding", the
+    case a fresh-clone run met by chance): either must be computed again."""
     _, client = dask_cluster
     out = tmp_path / "grades.csv"
     students = _students(synthetic, "right", "wrong", "looping")  # three tasks on two workers
@@ -233,7 +263,11 @@ def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, lo
     thread.start()
     try:
         while (go_on := waiting.get(timeout=300)) is not None:
-            busy = [w for w, keys in client.processing().items() if keys]
+            if victim == "busy":
+                busy = _busy(client) if not killed else []
+            else:
+                held = _holding(client) if not killed else None
+                busy = [held[1]] if held else []
             if busy and not killed:  # the client is held: no result of this run is taken meanwhile
                 # no task may need data that lives only on workers (scattered): Dask's memory
                 # manager trims its replicas, and the kill below would then cancel the task
@@ -242,11 +276,16 @@ def test_a_cluster_with_a_killed_worker_writes_the_local_gradebook(synthetic, lo
                 pid = client.run(os.getpid, workers=[busy[0]])[busy[0]]
                 os.kill(pid, signal.SIGKILL)
                 killed.append(busy[0])
+                if victim == "holding":  # the client hears of the lost result before it goes on
+                    deadline = time.monotonic() + 120
+                    while held[0].status == "finished" and time.monotonic() < deadline:
+                        time.sleep(0.01)
+                    assert held[0].status in ("lost", "pending"), held[0].status
             go_on.set()
     finally:
         thread.join(timeout=300)
     assert "error" not in done, done.get("error")
-    assert killed, "no worker held a task while the client was waiting"
+    assert killed, f"no worker was {victim} while the client was waiting"
     # the nanny starts a new worker process: seconds on a quiet machine, over a minute on
     # a loaded one (a fresh-clone make test saw it miss a 60 s wait)
     # (wait_for_workers(2) alone can return while the scheduler still lists the killed one)

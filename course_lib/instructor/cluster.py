@@ -16,8 +16,10 @@ Promises, and who keeps them:
 
 - a task whose worker dies is run again on another worker by the Dask scheduler (up to
   ``distributed.scheduler.allowed-failures`` times, 3 by default); a submission that kills
-  every worker it reaches gets ``error`` rows saying so, and is never lost; any other
-  failure of a task (not the submission's doing) stops the run, which then resumes;
+  every worker it reaches gets ``error`` rows saying so, and is never lost; a result
+  lost with its worker after it finished but before the client took it is waited for
+  again (the scheduler recomputes it); any other failure of a task (not the submission's
+  doing) stops the run, which then resumes;
 - the client takes the first result of each submission and ignores any other, so none is
   written twice;
 - a worker whose ``course_lib`` differs from the client's (another version of the checks)
@@ -162,6 +164,11 @@ def grade_on_cluster(tasks: list[Task], kit, limits: Limits, scheduler) -> Itera
 
         yield from top_up()
         for future in queue:
+            if future.status in ("lost", "pending"):
+                # finished, then its worker died before this loop took the result: the
+                # scheduler computes it again (the client still wants it); wait for that run
+                queue.add(future)
+                continue
             i = futures.pop(future)
             if future.status == "finished":
                 rows = future.result()
