@@ -15,7 +15,8 @@ import pytest
 from notebook_helpers import ROOT
 
 from course_lib.instructor import forkserver
-from course_lib.instructor.sandbox import Limits, Runtime, run_submission
+from course_lib.instructor.runtime import Runtime
+from course_lib.instructor.sandbox import Limits, run_submission
 
 pytestmark = pytest.mark.skipif(not forkserver.SUPPORTED, reason="the fork server needs Linux")
 

@@ -39,7 +39,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from .journal import grading_modules, lean_run, library_files
-from .sandbox import Limits, Run, Runtime
+from .runtime import Runtime
+from .sandbox import Limits, Run
 from .task import Task, _rows, grade_task
 from .verdicts import Row
 

@@ -26,7 +26,8 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
 
 from .kit import Assignment, load_kit
-from .sandbox import Limits, Runtime
+from .runtime import Runtime
+from .sandbox import Limits
 from .submissions import Student, choose, normalized, students
 from .task import Task, grade_task
 from .verdicts import FIELDS, Row

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .kit import Assignment
-from .sandbox import Limits, Run, Runtime, run_submission
+from .runtime import Runtime
+from .sandbox import Limits, Run, run_submission
 from .scan import answer_binding, tamper_findings
 from .submissions import Unreadable, read_notebook
 from .verdicts import Row, judge
