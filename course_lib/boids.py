@@ -147,7 +147,7 @@ def _sides(x, rules: Rules):
 def _directed_pairs(x, v, rules: Rules):
     """Unsorted directed neighbour pairs ``(i, j, d, |d|²)`` from the unordered pairs of
     :func:`course_lib.neighbors.pairs`: the reverse offset is the exact negative."""
-    p = neighbors._tree_pairs(x, rules.radius, _sides(x, rules), sort=False)
+    p = neighbors.pairs_unchecked(x, rules.radius, _sides(x, rules), sort=False)
     i, j = np.concatenate((p.i, p.j)), np.concatenate((p.j, p.i))
     d = np.concatenate((p.offset, -p.offset))
     dist2 = np.tile(squared_norms(p.offset), 2)
@@ -303,4 +303,4 @@ def step(x, v, dt: float, rules: Rules, method: str = "tree", extra=None):
     if not np.all(np.isfinite(v_new)):
         raise ValueError("the step blew up: a velocity is no longer finite (check weights and dt)")
     x_new = x + dt * v_new
-    return (x_new if rules.box is None else neighbors._wrapped(x_new, _sides(x, rules))), v_new
+    return (x_new if rules.box is None else neighbors.wrap_unchecked(x_new, _sides(x, rules))), v_new

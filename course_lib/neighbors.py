@@ -4,7 +4,9 @@ or in a periodic box.
 Holds :func:`pairs` (a k-d tree, :class:`scipy.spatial.cKDTree`, in about
 ``O(N log N + P)`` for ``P`` pairs), :func:`all_pairs` (the reference: every one of the
 ``N (N − 1)/2`` pairs tested, in blocks of rows) and the two helpers both build on,
-:func:`wrap_positions` and :func:`minimum_image`. Both searches return a :class:`Pairs`
+:func:`wrap_positions` and :func:`minimum_image` (:func:`pairs_unchecked` and
+:func:`wrap_unchecked` skip the checks, for a caller that validates once and steps many
+times). Both searches return a :class:`Pairs`
 and agree **exactly** (the same pairs, the same offset bits) on every configuration,
 because they share one definition of a pair:
 
@@ -109,11 +111,13 @@ def wrap_positions(x, box) -> np.ndarray:
     sides = np.broadcast_to(_validate.real_array("box", box), x.shape[-1:])
     if np.any(sides <= 0):
         raise ValueError(f"box must be > 0 on every axis (m), got {box!r}")
-    return _wrapped(x, sides)
+    return wrap_unchecked(x, sides)
 
 
-def _wrapped(x: np.ndarray, sides: np.ndarray) -> np.ndarray:
-    """:func:`wrap_positions` on a validated float array and positive sides."""
+def wrap_unchecked(x: np.ndarray, sides: np.ndarray) -> np.ndarray:
+    """:func:`wrap_positions` without its checks, for a caller that validated ``x`` (a
+    finite float array) and ``sides`` (positive, shape ``(dim,)``) once and wraps many times
+    (:mod:`.boids` steps a flock)."""
     w = np.mod(x, sides)
     # a tiny negative coordinate rounds to exactly `box`; its image at 0 is the same point
     return np.where(w >= sides, 0.0, w)
@@ -182,15 +186,16 @@ def pairs(x, radius: float, box=None, *, sort: bool = True) -> Pairs:
     """
     x = _positions(x)
     r = _radius(radius)
-    return _tree_pairs(x, r, _box(box, x.shape[1], r), sort)
+    return pairs_unchecked(x, r, _box(box, x.shape[1], r), sort)
 
 
-def _tree_pairs(x: np.ndarray, r: float, sides: np.ndarray | None, sort: bool) -> Pairs:
-    """:func:`pairs` on arguments already validated (``x`` a finite float ``(N, dim)``
-    array, ``sides`` from :func:`_box`): a caller stepping many times validates once."""
+def pairs_unchecked(x: np.ndarray, r: float, sides: np.ndarray | None, sort: bool) -> Pairs:
+    """:func:`pairs` without its checks, for a caller that validated ``x`` (a finite float
+    ``(N, dim)`` array), ``r`` (> 0) and ``sides`` (None, or positive sides each > 2 r, shape
+    ``(dim,)``) once and searches many times (:mod:`.boids` steps a flock)."""
     if len(x) < 2:
         return _empty(x.shape[1])
-    w = x if sides is None else _wrapped(x, sides)
+    w = x if sides is None else wrap_unchecked(x, sides)
     # the tree rounds its distances its own way: widen its radius by a few units of
     # round-off of the coordinates, then judge every candidate by the shared definition
     scale = float(np.max(np.abs(w))) + (0.0 if sides is None else float(sides.max())) + r
