@@ -76,10 +76,20 @@ def test_each_kind_gets_its_expected_status(synthetic, local):
 
 @pytest.fixture(scope="module")
 def dask_cluster():
-    """One two-worker LocalCluster (one process and one thread each) for this file's tests."""
+    """One two-worker LocalCluster (one process and one thread each) for this file's tests.
+
+    A LocalCluster hard-closes the nanny of a worker that died if, ``lost-worker-timeout``
+    (15 s) later, its view shows no worker of that name: when a test killed a worker and
+    the next test killed the one its nanny had started in its place, the first timer
+    fired between the second death and the restart and closed the nanny for good (a
+    fresh-clone run on a loaded machine saw the cluster stay at one worker). The nannies
+    restart their workers themselves, so the timer is pushed past the tests."""
     distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+    import dask
+    with dask.config.set({"distributed.deploy.lost-worker-timeout": "1h"}), \
+            distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                     dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
         yield cluster, client
 
 
