@@ -108,7 +108,7 @@ test:
 	wait; for other in $(BESIDE); do \
 		echo "== $$other, run alongside the other stages:"; cat build/alongside-$$other.log; \
 		[ "$$(cat build/alongside-$$other.rc 2>/dev/null)" = 0 ] || status=1; done; \
-	$(STAGE) summary; exit $$status
+	$(STAGE) summary || status=1; exit $$status
 
 test-unit: $(STAMP)
 	@$(STAGE) run unit -- env $(CI_HYPOTHESIS) $(PYTEST) $(XDIST) -p no:cacheprovider \

@@ -7,6 +7,12 @@ servers), and exits with CMD's code; pytest's 5 ("no tests collected") counts as
 stage's own times, their sums, and the time elapsed since ``reset`` (less than the sum of
 the walls when a stage ran alongside others). Standard library only, so it also times the
 setup that creates ``.venv``. The record is ``build/test-stages.tsv``.
+
+``reset`` also notes what ``git status`` shows, and ``summary`` fails (exit 1) naming every
+file that make test left in the checkout: new, changed or deleted, and not ignored. The
+tests write only to temporary and ignored folders; a stray file (a lock, a cache, a
+notebook rewritten in place) would otherwise show up only in a developer's next commit.
+Outside a git checkout (a tarball) the check is skipped.
 """
 
 from __future__ import annotations
@@ -18,7 +24,9 @@ import sys
 import time
 from pathlib import Path
 
-RECORD = Path(__file__).resolve().parents[1] / "build" / "test-stages.tsv"
+ROOT = Path(__file__).resolve().parents[1]
+RECORD = ROOT / "build" / "test-stages.tsv"
+STATUS = ROOT / "build" / "test-status-before.txt"
 NO_TESTS = 5  # pytest: nothing collected (e.g. a folder without notebooks yet)
 
 
@@ -38,6 +46,24 @@ def run(name: str, cmd: list[str]) -> int:
     with RECORD.open("a") as out:
         out.write(f"{name}\t{wall:.1f}\t{cpu:.1f}\t{code}\n")
     return code
+
+
+def checkout_status(root: Path = ROOT) -> list[str] | None:
+    """``git status --porcelain`` of ``root`` (every untracked file listed), or None when it
+    is not a git checkout or git is missing."""
+    try:
+        out = subprocess.run(["git", "status", "--porcelain=v1", "--untracked-files=all"],
+                             cwd=root, capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return sorted(out.stdout.splitlines()) if out.returncode == 0 else None
+
+
+def left_behind(before: list[str] | None, after: list[str] | None) -> list[str]:
+    """The status lines of ``after`` that ``before`` did not have: what a run left."""
+    if before is None or after is None:
+        return []
+    return sorted(set(after) - set(before))
 
 
 def summary() -> str:
@@ -63,9 +89,20 @@ def main(argv: list[str]) -> int:
     if argv[:1] == ["reset"]:
         RECORD.parent.mkdir(exist_ok=True)
         RECORD.write_text(f"#started\t{time.time():.1f}\n")
+        status = checkout_status()
+        STATUS.unlink(missing_ok=True)
+        if status is not None:
+            STATUS.write_text("".join(line + "\n" for line in status))
         return 0
     if argv[:1] == ["summary"]:
         print(summary())
+        before = STATUS.read_text().splitlines() if STATUS.exists() else None
+        left = left_behind(before, checkout_status())
+        if left:
+            print("make test left these in the checkout (not ignored; git status --porcelain):\n"
+                  + "\n".join(f"  {line}" for line in left)
+                  + "\nwrite them under build/ or a temporary folder, or ignore them in .gitignore")
+            return 1
         return 0
     if len(argv) >= 4 and argv[0] == "run" and argv[2] == "--":
         return run(argv[1], argv[3:])
