@@ -9,7 +9,8 @@ more test, ``rerun in other orders``: in the kernel nbval has just run top to bo
 code cell runs once more bottom to top, then once more in a seeded random order, and the
 test fails with the list of cells that raised. Cells marked to raise
 (``NBVAL_RAISES_EXCEPTION``, tag ``raises-exception``) or skipped (``NBVAL_SKIP``) are left
-out. Reusing nbval's kernel saves a third run of every notebook. Every nbval cell is marked
+out. Reusing nbval's kernel saves a third run of every notebook; the re-runs draw each
+figure's artists but not its pixels (``tests/skip_raster_startup.py``). Every nbval cell is marked
 ``roundoff`` (stored outputs quote numbers), so ``pytest -m roundoff --nbval build/paired``
 repeats them under the second rounding (the notebooks tests/paired.py writes).
 """
@@ -25,6 +26,8 @@ from queue import Empty
 import pytest
 
 RERUN_SEED = 2026
+NO_PIXELS = (f"__import__('runpy').run_path({str(Path(__file__).with_name('skip_raster_startup.py'))!r}, "
+             "run_name='course_kit_rerun')")
 EXPECTED_TO_RAISE = ("NBVAL_RAISES_EXCEPTION", "NBVAL_SKIP")
 TAGS_LEFT_OUT = {"raises-exception", "nbval-skip"}
 
@@ -83,6 +86,12 @@ class RerunItem(pytest.Item):
         slow = _slow_cells(nbfile.nb, _durations.get(nbfile.nodeid, {}),
                            self.config.getoption("nbval_rerun_max_seconds"))
         cells = [(i, src) for i, src in rerun_cells(nbfile.nb) if i not in slow]
+        # figures drawn, their pixels not (tests/skip_raster_startup.py): the outputs of the
+        # re-runs are not compared, and Run All just rasterized every figure
+        msg_id = kernel.execute_cell_input(NO_PIXELS, allow_stdin=False)
+        reply = _reply(kernel, msg_id, timeout)
+        kernel.await_idle(msg_id, timeout)
+        assert reply["status"] == "ok", f"the re-runs' figure patch raised {reply.get('evalue')}"
         for name, order in rerun_orders(cells, wanted=wanted):
             for index, source in order:
                 msg_id = kernel.execute_cell_input(source, allow_stdin=False)

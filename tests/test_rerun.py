@@ -67,6 +67,13 @@ def rerun_session() -> tuple[int, str, dict[str, str]]:
         # the slow cell breaks the fast one after it; the fast one breaks the slow one
         nbformat.write(_notebook("x = 1", "import time; time.sleep(1.5); z = x + 1",
                                  "y = x + 1", "x = 'text'"), f"{folder}/slow.ipynb")
+        # a figure saved in a cell (as a player saves its frames) that a later cell breaks:
+        # the re-runs skip its pixels but still draw its artists, and so still fail
+        nbformat.write(_notebook("import io\nimport matplotlib.pyplot as plt\n"
+                                 "fig, ax = plt.subplots()\nline, = ax.plot([0, 1], [0, 1])",
+                                 "line.set_ydata([1, 0])\npng = io.BytesIO()\n"
+                                 "fig.savefig(png, format='png')\nsize = len(png.getvalue())",
+                                 "line.set_xdata([0, 1, 2])"), f"{folder}/figure.ipynb")
         done = subprocess.run(
             [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-p", "no:xdist",
              "--nbval-lax", "--nbval-current-env", f"--nbval-rerun={folder}",
@@ -95,7 +102,15 @@ def test_a_cell_broken_by_a_later_cell_fails_the_rerun(rerun_session):
     assert "reverse order: cell 1 ('y = x + 1') raised TypeError" in blocks["nb"], out[-3000:]
     assert re.search(r"PASSED \S*/good\.ipynb::rerun in other orders", out), out[-3000:]
     assert "good" not in blocks
-    assert "10 passed" in out and "2 failed" in out   # 9 cells and one rerun; two reruns
+    assert "13 passed" in out and "3 failed" in out   # 12 cells and one rerun; three reruns
+    assert "reverse order: cell 1 ('line.set_ydata([1, 0])') raised ValueError" in blocks["figure"]
+
+
+def test_the_reruns_draw_figures_without_their_pixels(rerun_session):
+    """In the re-runs a saved PNG is one blank pixel (Run All already drew it) but the
+    figure's artists are still drawn: the broken figure above fails, as it would drawn."""
+    _, out, blocks = rerun_session
+    assert "shape mismatch" in blocks["figure"], out[-3000:]
 
 
 def test_make_test_reruns_the_solutions():

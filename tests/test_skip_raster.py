@@ -54,3 +54,31 @@ def test_one_strict_pass_of_the_solutions_still_draws_every_figure():
     assert "--nbval-skip-raster" not in nbval and nbval.rstrip().endswith("solutions")  # draws
     # the second rounding blanks the PNGs of the notebooks it runs (the paired ones)
     assert "--nbval-skip-raster=$(PAIRED)" in rounding and rounding.rstrip().endswith("$(PAIRED)")
+
+
+def test_the_reruns_mode_blanks_pngs_but_draws_the_artists():
+    """``run_name="course_kit_rerun"`` (tests/nbval_rerun.py, before the re-runs in other
+    orders): a PNG is one pixel, yet a figure whose artists cannot draw still raises."""
+    code = f"""
+import io, runpy
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+runpy.run_path({str(STARTUP)!r}, run_name="course_kit_rerun")
+from course_lib.players import _png_size
+fig, ax = plt.subplots(figsize=(4, 3), dpi=50)
+line, = ax.plot([0, 1], [0, 1])
+png = io.BytesIO()
+fig.savefig(png, format="png")
+line.set_xdata([0, 1, 2])
+try:
+    fig.savefig(io.BytesIO(), format="png")
+    raised = None
+except ValueError as exc:
+    raised = "shape mismatch" in str(exc)
+print(_png_size(png.getvalue()), raised)
+"""
+    env = {**os.environ, "COURSE_KIT_SKIP_RASTER": "0"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         timeout=120, check=True).stdout.strip()
+    assert out == "(1, 1) True"
