@@ -4,8 +4,8 @@ A cell's and an exercise's budget are CPU seconds of the sandboxed process; the 
 may run ``sandbox.WAIT_FACTOR`` times longer before the grader kills it. A process that
 gets no CPU for a while (a loaded machine, here imitated by a sleep) is not a slow answer;
 a loop that computes for ever is stopped at the CPU budget; code that only waits is stopped
-by the wall watch. Before this rule a wall-clock alarm of 6 s timed out a correct answer
-under a load of 11.
+by the wall watch, which does not count the time the process waited for a CPU. Before
+this rule a wall-clock alarm of 6 s timed out a correct answer under a load of 11.
 
 One hand-in of notebook 02 (its imports and exercise cells, as tests/grading/corpus.py
 writes them) carries the three behaviours, one per exercise, and is graded once with a
@@ -14,15 +14,20 @@ budget of 0.5 s of CPU per exercise: the rule is the same at 0.5 s as at the rea
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import pytest
 from grading.corpus import A02, Sub
+from notebook_helpers import ROOT
 
 from course_lib.check import nb02
 from course_lib.instructor.grade import grade_class
 from course_lib.instructor.recorder import Recorder, Timeout
-from course_lib.instructor.sandbox import WAIT_FACTOR, Limits
+from course_lib.instructor.sandbox import WAIT_FACTOR, Limits, queued_seconds
 from course_lib.instructor.verdicts import Replay, ReplayStop
 
 BUDGET = 0.5  # CPU seconds per exercise
@@ -120,3 +125,78 @@ def test_a_limit_striking_in_the_bookkeeping_replays_as_a_timeout(monkeypatch):
     assert recorder.calls[0]["timeout"] and "result" not in recorder.calls[0]
     with pytest.raises(ReplayStop, match="timeout"):
         Replay(recorder.calls)(_square, 10)
+
+
+# --- a grading machine whose CPUs are busy ------------------------------------------------
+
+CROWDED = f"""
+import os, subprocess, sys
+from pathlib import Path
+sys.path.insert(0, {str(ROOT / "tests")!r})
+os.sched_setaffinity(0, {{0}})     # this process, the grader's fork server and its workers
+# four busy loops on the same CPU, each in its own session (the scheduler shares a CPU
+# between sessions first), held until the looping exercise starts
+spin = ("import os, sys, time\\nos.sched_setaffinity(0, {{0}})\\nsys.stdin.read(1)\\n"
+        "t = time.monotonic()\\nwhile time.monotonic() - t < 30: pass")
+hogs = [subprocess.Popen([sys.executable, "-c", spin], stdin=subprocess.PIPE, start_new_session=True)
+        for _ in range(4)]
+try:
+    from grading.corpus import A02, Sub
+    from course_lib.instructor import sandbox
+    from course_lib.instructor.grade import grade_class
+    real_apply = sandbox._apply
+
+    def apply(msg, state, run):
+        real_apply(msg, state, run)
+        if msg.get("event") == "exercise_start" and msg.get("name") == "radius_after":
+            for h in hogs:
+                h.stdin.write(b"go")
+                h.stdin.close()
+
+    sandbox._apply = apply
+    root = Path(sys.argv[1])
+    (Sub(A02).answer("radius_after", "while True:\\n    pass")
+     .write(root / "class" / "ann" / f"{{A02}}.ipynb"))
+    limits = sandbox.Limits(deadline=120, cell_s=30, exercise_s={BUDGET}, memory_mb=1024, grace=0.2)
+    rows = grade_class([root / "class"], root / "grades.csv", assignments=[A02], limits=limits,
+                       jobs=1, progress=False)
+    print(next(r.message for r in rows if r.exercise == "radius_after"))
+finally:
+    for h in hogs:
+        h.kill()
+"""
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").is_dir() or not hasattr(os, "sched_setaffinity"),
+                    reason="the kernel's scheduler statistics (Linux) are needed")
+def test_a_computing_loop_on_a_crowded_cpu_still_stops_at_the_cpu_budget(tmp_path):
+    """The grader, its workers and (from the looping exercise's start) four busy loops share
+    one CPU: the looping answer gets a fifth of it, so its 0.5 s of CPU take about 2.5 s,
+    past the wall watch (3 x 0.5 s + a grace of 0.2 s). The time it spent waiting for the
+    CPU is not charged to it: it is stopped by its CPU budget, with the message a quiet
+    machine gives, not killed by the wall watch (as a fresh-clone run on a busy machine once
+    saw: the cluster's gradebook then differed from the local one by that message)."""
+    out = subprocess.run([sys.executable, "-c", CROWDED, str(tmp_path)], capture_output=True,
+                         text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert f"did not finish within {BUDGET:g} s of CPU time" in out.stdout, out.stdout
+
+
+def test_queued_seconds_counts_waiting_for_a_cpu_not_sleeping():
+    if not Path("/proc/self/task").is_dir() or not hasattr(os, "sched_setaffinity"):
+        assert queued_seconds(os.getpid()) == 0.0
+        return
+    spin = ("import os, time\nos.sched_setaffinity(0, {0})\nt = time.monotonic()\n"
+            "while time.monotonic() - t < 5: pass")
+    busy = [subprocess.Popen([sys.executable, "-c", spin]) for _ in range(2)]
+    sleeper = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(5)"])
+    try:
+        time.sleep(1.0)
+        queued = [queued_seconds(p.pid) for p in busy]
+        assert sum(queued) > 0.5, queued  # two loops on one CPU: each waits about half the time
+        assert queued_seconds(sleeper.pid) < 0.1
+    finally:
+        for p in (*busy, sleeper):
+            p.kill()
+            p.wait()
+    assert queued_seconds(busy[0].pid) == 0.0 and queued_seconds(None) == 0.0  # gone, or none

@@ -40,7 +40,8 @@ from .runtime import Runtime, remove_tree
 
 #: A cell's or an exercise's budget is CPU seconds (the worker's profiling timer); the wall
 #: clock may run this many times longer before the grader kills the process, which stops
-#: code that waits without computing, while a busy machine does not fail a correct answer.
+#: code that waits without computing, while a busy machine does not fail a correct answer
+#: (and the time the process spent waiting for a CPU, :func:`queued_seconds`, is added).
 WAIT_FACTOR = 3.0
 
 
@@ -83,11 +84,17 @@ class Run:
 class _Attempt:
     """One worker process: its messages so far and where it is."""
 
-    def __init__(self, key: str):
+    def __init__(self, key: str, pid: int | None = None):
         self.key, self.seq, self.buffer = key.encode(), 0, b""
+        self.pid = pid
         self.phase: tuple[str, object] | None = ("setup", None)
-        self.phase_start = time.monotonic()
+        self.mark()
         self.ready = self.done = False
+
+    def mark(self) -> None:
+        """A new phase starts now: its clock, and the CPU queueing it will not be charged."""
+        self.phase_start = time.monotonic()
+        self.queued_start = self.credit = queued_seconds(self.pid)
 
     def lines(self, data: bytes, max_line: int) -> list[dict]:
         self.buffer += data
@@ -164,7 +171,7 @@ def _attempt(runtime, notebook_file, cells, check_module, exercises, limits, ski
         proc, stdin = runtime.start(workdir, check_module, write_fd, log)
     finally:
         os.close(write_fd)
-    state = _Attempt(key)
+    state = _Attempt(key, proc.pid)
     reason = None
     try:
         try:
@@ -203,6 +210,25 @@ def _attempt(runtime, notebook_file, cells, check_module, exercises, limits, ski
     return False
 
 
+def queued_seconds(pid: int | None) -> float:
+    """Seconds the threads of process ``pid`` have spent runnable but waiting for a CPU
+    (``/proc/PID/task/*/schedstat``, Linux); 0.0 where the kernel does not say."""
+    if pid is None:
+        return 0.0
+    total = 0
+    try:
+        tasks = list(os.scandir(f"/proc/{pid}/task"))
+    except OSError:
+        return 0.0
+    for task in tasks:
+        try:
+            with open(f"{task.path}/schedstat") as f:
+                total += int(f.read().split()[1])
+        except (OSError, ValueError, IndexError):
+            pass
+    return total / 1e9
+
+
 def _watch(proc, fd, state: _Attempt, run: Run, limits: Limits, deadline: float) -> str | None:
     """Read the worker's messages until it ends; return why it was killed, if it was."""
     sel = selectors.DefaultSelector()
@@ -213,11 +239,17 @@ def _watch(proc, fd, state: _Attempt, run: Run, limits: Limits, deadline: float)
             kind = state.phase[0] if state.phase else None
             budget = {"cell": limits.cell_s, "exercise": limits.exercise_s, "setup": 120.0}.get(kind, 30.0)
             waited = WAIT_FACTOR * budget if kind in ("cell", "exercise") else budget
-            phase_end = state.phase_start + waited + limits.grace
+            # the time the worker waited for a CPU is not its own: a busy grading machine
+            # must not turn a computing loop's CPU timeout into a wall-clock kill
+            phase_end = state.phase_start + waited + limits.grace + (state.credit - state.queued_start)
             if now >= deadline:
                 run.out_of_time = True
                 return f"the notebook ran out of its {limits.deadline:g} s"
             if now >= phase_end:
+                queued = queued_seconds(proc.pid)
+                if queued > state.credit + 0.01:
+                    state.credit = queued
+                    continue
                 return f"killed after {waited:g} s (time limit)"
             if not sel.select(timeout=min(deadline, phase_end) - now):
                 continue
@@ -239,7 +271,7 @@ def _apply(msg: dict, state: _Attempt, run: Run) -> None:
     expected = {"ready": state.phase == ("setup", None) and not state.ready}
     if state.done or (event in expected and not expected[event]):
         raise ValueError(f"unexpected {event!r} message")
-    state.phase_start = time.monotonic()
+    state.mark()
     if event == "ready":
         state.ready, state.phase = True, None
         run.landlock = int(msg.get("landlock", 0))
