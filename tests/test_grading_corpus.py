@@ -166,10 +166,13 @@ def test_messages_explain_each_verdict(graded):
     assert "SIGSEGV" in msg[("segfault_05", "velocity_verlet_step")]
     assert "does not compile" in msg[("syntax_error_02", "forward_euler_step")]
     assert "ZeroDivisionError" in msg[("exception_02", "forward_euler_step")]
-    # stopped by its CPU alarm (4 s), or, on a machine so busy that the loop got less than
-    # a third of a core, by the wall-clock watch (3 x 4 s): a timeout either way
+    # stopped by its CPU alarm (4 s), however busy the machine: the wall-clock watch (3 x 4 s)
+    # does not count the time the loop waited for a CPU, where the kernel reports it
     looped = msg[("loop_in_exercise_02", "radius_after")]
-    assert "did not finish within" in looped or "killed after 12 s (time limit)" in looped, looped
+    if Path("/proc/self/schedstat").exists():
+        assert "did not finish within" in looped, looped
+    else:  # no scheduler statistics: on a machine busy enough, the wall watch may strike first
+        assert "did not finish within" in looped or "killed after 12 s (time limit)" in looped, looped
     assert "MemoryError" in msg[("memory_hog_02", "drift_dt")]
     assert "SystemExit" in msg[("exit_in_exercise_02", "drift_dt")]
     assert "is notebook 05_newtons_second_law" in msg[("another_assignment", "drift_dt")]
