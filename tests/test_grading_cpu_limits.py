@@ -18,7 +18,6 @@ import os
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import pytest
 from grading.corpus import A02, Sub
@@ -27,7 +26,7 @@ from notebook_helpers import ROOT
 from course_lib.check import nb02
 from course_lib.instructor.grade import grade_class
 from course_lib.instructor.recorder import Recorder, Timeout
-from course_lib.instructor.sandbox import WAIT_FACTOR, Limits, queued_seconds
+from course_lib.instructor.sandbox import COUNTS_QUEUEING, WAIT_FACTOR, Limits, queued_seconds
 from course_lib.instructor.verdicts import Replay, ReplayStop
 
 BUDGET = 0.5  # CPU seconds per exercise
@@ -129,6 +128,17 @@ def test_a_limit_striking_in_the_bookkeeping_replays_as_a_timeout(monkeypatch):
 
 # --- a grading machine whose CPUs are busy ------------------------------------------------
 
+PINNED = hasattr(os, "sched_setaffinity")
+
+
+def _spin(seconds: float, held: bool = False) -> str:
+    """Source of a busy loop pinned to CPU 0 for ``seconds`` (after a byte on stdin if
+    ``held``)."""
+    return ("import os, sys, time\nos.sched_setaffinity(0, {0})\n"
+            + ("sys.stdin.read(1)\n" if held else "")
+            + f"t = time.monotonic()\nwhile time.monotonic() - t < {seconds}: pass")
+
+
 CROWDED = f"""
 import os, subprocess, sys
 from pathlib import Path
@@ -136,9 +146,8 @@ sys.path.insert(0, {str(ROOT / "tests")!r})
 os.sched_setaffinity(0, {{0}})     # this process, the grader's fork server and its workers
 # four busy loops on the same CPU, each in its own session (the scheduler shares a CPU
 # between sessions first), held until the looping exercise starts
-spin = ("import os, sys, time\\nos.sched_setaffinity(0, {{0}})\\nsys.stdin.read(1)\\n"
-        "t = time.monotonic()\\nwhile time.monotonic() - t < 30: pass")
-hogs = [subprocess.Popen([sys.executable, "-c", spin], stdin=subprocess.PIPE, start_new_session=True)
+hogs = [subprocess.Popen([sys.executable, "-c", {_spin(30, held=True)!r}], stdin=subprocess.PIPE,
+                         start_new_session=True)
         for _ in range(4)]
 try:
     from grading.corpus import A02, Sub
@@ -167,8 +176,8 @@ finally:
 """
 
 
-@pytest.mark.skipif(not Path("/proc/self/task").is_dir() or not hasattr(os, "sched_setaffinity"),
-                    reason="the kernel's scheduler statistics (Linux) are needed")
+@pytest.mark.skipif(not (COUNTS_QUEUEING and PINNED),
+                    reason="the kernel's scheduler statistics and CPU affinity (Linux) are needed")
 def test_a_computing_loop_on_a_crowded_cpu_still_stops_at_the_cpu_budget(tmp_path):
     """The grader, its workers and (from the looping exercise's start) four busy loops share
     one CPU: the looping answer gets a fifth of it, so its 0.5 s of CPU take about 2.5 s,
@@ -183,12 +192,10 @@ def test_a_computing_loop_on_a_crowded_cpu_still_stops_at_the_cpu_budget(tmp_pat
 
 
 def test_queued_seconds_counts_waiting_for_a_cpu_not_sleeping():
-    if not Path("/proc/self/task").is_dir() or not hasattr(os, "sched_setaffinity"):
+    if not (COUNTS_QUEUEING and PINNED):
         assert queued_seconds(os.getpid()) == 0.0
         return
-    spin = ("import os, time\nos.sched_setaffinity(0, {0})\nt = time.monotonic()\n"
-            "while time.monotonic() - t < 5: pass")
-    busy = [subprocess.Popen([sys.executable, "-c", spin]) for _ in range(2)]
+    busy = [subprocess.Popen([sys.executable, "-c", _spin(5)]) for _ in range(2)]
     sleeper = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(5)"])
     try:
         time.sleep(1.0)

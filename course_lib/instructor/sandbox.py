@@ -210,10 +210,14 @@ def _attempt(runtime, notebook_file, cells, check_module, exercises, limits, ski
     return False
 
 
+#: Whether this kernel reports the time a process waited for a CPU (Linux schedstat).
+COUNTS_QUEUEING = Path("/proc/self/schedstat").exists()
+
+
 def queued_seconds(pid: int | None) -> float:
     """Seconds the threads of process ``pid`` have spent runnable but waiting for a CPU
     (``/proc/PID/task/*/schedstat``, Linux); 0.0 where the kernel does not say."""
-    if pid is None:
+    if pid is None or not COUNTS_QUEUEING:
         return 0.0
     total = 0
     try:
