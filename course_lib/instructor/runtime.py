@@ -109,6 +109,7 @@ class Runtime:
         if self.forks is not None:
             self.forks.close()
             self.forks = None
+            atexit.unregister(self.close_forks)     # nothing left to end at exit
 
     def cleanup(self) -> None:
         self.close_forks()
